@@ -1,0 +1,136 @@
+//! Reading and writing polygon meshes: OBJ, PLY (ASCII, binary little and big endian) and OFF.
+//!
+//! Readers keep polygons as written (no triangulation, no welding, unreferenced vertices
+//! kept), so that counts such as V, E and χ describe the file. Writers are atomic: the data
+//! goes to a temporary file in the target's folder which is renamed over the target only
+//! once complete, so a failed write never leaves a half-written file behind.
+
+mod atomic;
+mod face_check;
+mod obj;
+mod off;
+mod ply;
+mod text;
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::mesh::PolygonMesh;
+
+pub use atomic::write_atomically;
+pub use ply::PlyEncoding;
+
+/// The mesh file formats surfkit reads and writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum Format {
+    Obj,
+    Ply,
+    Off,
+}
+
+impl Format {
+    /// The format named by `path`'s extension (case-insensitive).
+    ///
+    /// # Errors
+    /// [`Error::UnknownFormat`] for any other extension.
+    pub fn from_path(path: &Path) -> Result<Format> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
+        match ext.as_str() {
+            "obj" => Ok(Format::Obj),
+            "ply" => Ok(Format::Ply),
+            "off" => Ok(Format::Off),
+            _ => Err(Error::UnknownFormat {
+                path: path.to_path_buf(),
+                extension: ext,
+            }),
+        }
+    }
+}
+
+/// How strictly readers treat faces that are well-formed but degenerate.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ReadOptions {
+    /// Keep faces with fewer than 3 corners or a repeated vertex instead of refusing the file.
+    /// Flaw finders (EAT) set this: degenerate faces are among what they report.
+    pub keep_degenerate: bool,
+}
+
+/// Options for writing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct WriteOptions {
+    /// PLY encoding; binary little endian unless asked otherwise.
+    pub ply_encoding: PlyEncoding,
+}
+
+impl Default for WriteOptions {
+    fn default() -> Self {
+        WriteOptions {
+            ply_encoding: PlyEncoding::BinaryLittleEndian,
+        }
+    }
+}
+
+/// Reads a mesh, choosing the format from the extension; degenerate faces are an error.
+///
+/// # Errors
+/// [`Error::Io`] when the file cannot be read, [`Error::UnknownFormat`], and
+/// [`Error::Parse`] naming the line (text) or element (binary) and the problem: malformed
+/// numbers, out-of-range indices, non-finite coordinates, truncated data, header counts
+/// that disagree with the data, faces with fewer than 3 corners or a repeated vertex.
+pub fn read(path: &Path) -> Result<PolygonMesh> {
+    read_with(path, &ReadOptions::default())
+}
+
+/// Reads a mesh with explicit options (see [`read`]).
+pub fn read_with(path: &Path, options: &ReadOptions) -> Result<PolygonMesh> {
+    let format = Format::from_path(path)?;
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    parse(path, &bytes, format, options)
+}
+
+/// Parses a mesh held in memory; `path` is used in error messages only.
+pub fn parse(
+    path: &Path,
+    bytes: &[u8],
+    format: Format,
+    options: &ReadOptions,
+) -> Result<PolygonMesh> {
+    if bytes.iter().all(u8::is_ascii_whitespace) {
+        return Err(Error::parse(
+            path,
+            crate::error::Location::File,
+            "the file is empty",
+        ));
+    }
+    let mesh = match format {
+        Format::Obj => obj::parse(path, bytes, options)?,
+        Format::Ply => ply::parse(path, bytes, options)?,
+        Format::Off => off::parse(path, bytes, options)?,
+    };
+    debug_assert!(mesh.validate().is_ok());
+    Ok(mesh)
+}
+
+/// Writes `mesh` atomically in the format named by `path`'s extension.
+///
+/// OBJ keeps positions, faces, objects, groups, UVs and vertex colours (as `v x y z r g b`),
+/// not quality; PLY keeps everything (objects and groups as face properties with their
+/// names in header comments); OFF keeps positions, faces, vertex colours (COFF) and
+/// objects/groups as `# surfkit` comments that surfkit reads back.
+///
+/// # Errors
+/// [`Error::InvalidInput`] when the mesh breaks its invariants, [`Error::UnknownFormat`],
+/// [`Error::Io`] when the file cannot be written.
+pub fn write(path: &Path, mesh: &PolygonMesh, options: &WriteOptions) -> Result<()> {
+    let format = Format::from_path(path)?;
+    mesh.validate()?;
+    write_atomically(path, |out| match format {
+        Format::Obj => obj::write(out, mesh),
+        Format::Ply => ply::write(out, mesh, options.ply_encoding),
+        Format::Off => off::write(out, mesh),
+    })
+}

@@ -1,0 +1,306 @@
+//! Wavefront OBJ: `v` (with MeshLab's optional `r g b`), `vt`, `f` (polygons kept,
+//! negative indices relative), `o` and `g` kept as face labels.
+//!
+//! Why not `tobj`, which the design names: tobj re-indexes vertices per model, so vertices
+//! shared between two `o`/`g` groups are duplicated and unreferenced vertices are dropped.
+//! Both change V, E and χ — the very numbers the Euler test checks — and tobj's errors carry
+//! no line number. This reader keeps the file's vertex numbering and names the line of any
+//! problem; tobj stays in the test suite as an independent cross-check of what we parse.
+
+use std::io::Write;
+use std::path::Path;
+
+use super::face_check::{degeneracy, out_of_range};
+use super::text::{parse_f64, parse_i64, show, tokens, write_f64, Lines};
+use super::ReadOptions;
+use crate::error::{Error, Location, Result};
+use crate::mesh::{CornerUvs, FaceLabels, PolygonMesh, NO_LABEL};
+
+/// What the reader accumulates while walking the lines.
+#[derive(Default)]
+struct ObjBuilder {
+    mesh: PolygonMesh,
+    colors: Vec<[u8; 4]>,
+    uv_coords: Vec<[f64; 2]>,
+    uv_corners: Vec<u32>,
+    faces_with_uv: usize,
+    objects: FaceLabels,
+    groups: FaceLabels,
+    label_ids: [std::collections::HashMap<String, u32>; 2],
+    current_object: u32,
+    current_group: u32,
+    /// Face lines with the line number where they were read: indices are checked against
+    /// the final vertex count, since OBJ allows `v` records after the faces that use them.
+    face_lines: Vec<usize>,
+    raw_indices: Vec<i64>,
+}
+
+pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<PolygonMesh> {
+    let mut b = ObjBuilder {
+        current_object: NO_LABEL,
+        current_group: NO_LABEL,
+        ..Default::default()
+    };
+    let err = |line: usize, msg: String| Error::parse(path, Location::Line(line), msg);
+    let mut joined = Vec::new();
+    let mut lines = Lines::new(bytes);
+    while let Some((number, mut line)) = lines.next() {
+        // A trailing backslash continues the record on the next line.
+        if line.last() == Some(&b'\\') {
+            joined.clear();
+            joined.extend_from_slice(&line[..line.len() - 1]);
+            while joined.last().is_some() {
+                match lines.next() {
+                    Some((_, next)) => {
+                        joined.push(b' ');
+                        let cont = next.last() == Some(&b'\\');
+                        joined.extend_from_slice(if cont { &next[..next.len() - 1] } else { next });
+                        if !cont {
+                            break;
+                        }
+                    }
+                    None => break,
+                }
+            }
+            line = &joined;
+        }
+        let mut toks = tokens(line);
+        let Some(keyword) = toks.next() else { continue };
+        match keyword {
+            b"v" => read_vertex(&mut b, toks, number).map_err(|m| err(number, m))?,
+            b"vt" => {
+                let u = toks.next().and_then(parse_f64);
+                let v = toks.next().map_or(Some(0.0), parse_f64);
+                match (u, v) {
+                    (Some(u), Some(v)) if u.is_finite() && v.is_finite() => {
+                        b.uv_coords.push([u, v])
+                    }
+                    _ => {
+                        return Err(err(
+                            number,
+                            format!("texture coordinate is not two finite numbers: {:?}", show(line)),
+                        ))
+                    }
+                }
+            }
+            b"f" => read_face(&mut b, toks, number).map_err(|m| err(number, m))?,
+            b"o" | b"g" => {
+                let name = std::str::from_utf8(line[1..].trim_ascii())
+                    .map_err(|e| err(number, non_utf8(line, e)))?;
+                let (labels, ids, current) = if keyword == b"o" {
+                    (&mut b.objects, &mut b.label_ids[0], &mut b.current_object)
+                } else {
+                    (&mut b.groups, &mut b.label_ids[1], &mut b.current_group)
+                };
+                *current = *ids.entry(name.to_string()).or_insert_with(|| {
+                    labels.names.push(name.to_string());
+                    (labels.names.len() - 1) as u32
+                });
+            }
+            // Normals, materials, smoothing groups, lines, points, free-form geometry,
+            // comments: not part of a polygon mesh's topology.
+            _ => {}
+        }
+    }
+    finish(b, path, options)
+}
+
+fn non_utf8(line: &[u8], e: std::str::Utf8Error) -> String {
+    format!(
+        "not valid UTF-8 text: byte 0x{:02x} at column {}",
+        line[e.valid_up_to()],
+        e.valid_up_to() + 1
+    )
+}
+
+fn read_vertex<'a>(
+    b: &mut ObjBuilder,
+    toks: impl Iterator<Item = &'a [u8]>,
+    _line: usize,
+) -> std::result::Result<(), String> {
+    let mut vals = [0.0f64; 7];
+    let mut n = 0;
+    for t in toks {
+        if n == 7 {
+            return Err("a vertex has at most 7 numbers (x y z [w] or x y z r g b)".into());
+        }
+        vals[n] = parse_f64(t).ok_or_else(|| format!("{:?} is not a number", show(t)))?;
+        n += 1;
+    }
+    if n < 3 {
+        return Err(format!("a vertex needs 3 coordinates, found {n}"));
+    }
+    if let Some(c) = vals[..n].iter().find(|c| !c.is_finite()) {
+        return Err(format!("vertex coordinate {c} is not finite"));
+    }
+    let index = b.mesh.positions.len();
+    b.mesh.positions.push([vals[0], vals[1], vals[2]]);
+    if n == 6 {
+        // MeshLab's extension: r g b in [0, 1] after the position.
+        if b.colors.len() < index {
+            b.colors.resize(index, [255, 255, 255, 255]);
+        }
+        let c = |x: f64| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
+        b.colors.push([c(vals[3]), c(vals[4]), c(vals[5]), 255]);
+    }
+    Ok(())
+}
+
+fn read_face<'a>(
+    b: &mut ObjBuilder,
+    toks: impl Iterator<Item = &'a [u8]>,
+    line: usize,
+) -> std::result::Result<(), String> {
+    let vertex_count = b.mesh.positions.len() as i64;
+    let uv_count = b.uv_coords.len() as i64;
+    let first_corner = b.raw_indices.len();
+    let mut with_uv = 0usize;
+    for t in toks {
+        let mut parts = t.split(|&c| c == b'/');
+        let v = parts.next().unwrap_or_default();
+        let vi = parse_i64(v).ok_or_else(|| format!("{:?} is not a vertex index", show(t)))?;
+        if vi == 0 {
+            return Err("vertex index 0: OBJ indices start at 1".into());
+        }
+        // Negative indices count back from the last vertex read so far.
+        let resolved = if vi < 0 { vertex_count + vi } else { vi - 1 };
+        if vi < 0 && resolved < 0 {
+            return Err(format!(
+                "relative vertex index {vi} reaches before the first vertex ({vertex_count} read so far)"
+            ));
+        }
+        b.raw_indices.push(resolved);
+        if let Some(vt) = parts.next().filter(|s| !s.is_empty()) {
+            let ti = parse_i64(vt).ok_or_else(|| format!("{:?} is not a texture index", show(t)))?;
+            let r = if ti < 0 { uv_count + ti } else { ti - 1 };
+            if r < 0 || r >= uv_count {
+                return Err(format!(
+                    "texture index {ti} is out of range: {uv_count} texture coordinates read so far"
+                ));
+            }
+            b.uv_corners.push(r as u32);
+            with_uv += 1;
+        }
+    }
+    let arity = b.raw_indices.len() - first_corner;
+    if with_uv != 0 && with_uv != arity {
+        return Err("some corners of the face have a texture index and some do not".into());
+    }
+    if with_uv != 0 {
+        b.faces_with_uv += 1;
+    } else {
+        // Keep uv_corners aligned with the corners of faces read so far.
+        b.uv_corners.extend(std::iter::repeat_n(u32::MAX, arity));
+    }
+    b.face_lines.push(line);
+    b.mesh.face_offsets.push(b.raw_indices.len() as u32);
+    b.objects.of_face.push(b.current_object);
+    b.groups.of_face.push(b.current_group);
+    Ok(())
+}
+
+fn finish(mut b: ObjBuilder, path: &Path, options: &ReadOptions) -> Result<PolygonMesh> {
+    let n = b.mesh.positions.len();
+    let mut indices = Vec::with_capacity(b.raw_indices.len());
+    for (f, w) in b.mesh.face_offsets.windows(2).enumerate() {
+        let corners = &b.raw_indices[w[0] as usize..w[1] as usize];
+        let line = b.face_lines[f];
+        for &i in corners {
+            if let Some(m) = out_of_range(i, n, 1) {
+                return Err(Error::parse(path, Location::Line(line), m));
+            }
+        }
+        let start = indices.len();
+        indices.extend(corners.iter().map(|&i| i as u32));
+        if !options.keep_degenerate {
+            if let Some(m) = degeneracy(&indices[start..]) {
+                return Err(Error::parse(path, Location::Line(line), m));
+            }
+        }
+    }
+    b.mesh.face_indices = indices;
+    let faces = b.mesh.face_count();
+    if !b.colors.is_empty() {
+        b.colors.resize(n, [255, 255, 255, 255]);
+        b.mesh.colors = Some(b.colors);
+    }
+    if b.faces_with_uv == faces && faces > 0 {
+        b.mesh.uvs = Some(CornerUvs {
+            coords: b.uv_coords,
+            corner_indices: b.uv_corners,
+        });
+    }
+    let labelled = |l: &FaceLabels| l.of_face.iter().any(|&i| i != NO_LABEL);
+    if labelled(&b.objects) {
+        b.mesh.objects = Some(b.objects);
+    }
+    if labelled(&b.groups) {
+        b.mesh.groups = Some(b.groups);
+    }
+    Ok(b.mesh)
+}
+
+/// Writes OBJ text: positions in shortest round-trip form, faces 1-based, `o`/`g` records
+/// where a face's label changes, `vt` and `f v/vt` when the mesh has UVs.
+pub fn write(out: &mut dyn Write, mesh: &PolygonMesh) -> std::io::Result<()> {
+    writeln!(out, "# written by surfkit {}", env!("CARGO_PKG_VERSION"))?;
+    writeln!(
+        out,
+        "# {} vertices, {} faces",
+        mesh.vertex_count(),
+        mesh.face_count()
+    )?;
+    for (i, p) in mesh.positions.iter().enumerate() {
+        out.write_all(b"v")?;
+        for &c in p {
+            out.write_all(b" ")?;
+            write_f64(out, c)?;
+        }
+        if let Some(colors) = &mesh.colors {
+            let c = colors[i];
+            for k in 0..3 {
+                out.write_all(b" ")?;
+                write_f64(out, f64::from(c[k]) / 255.0)?;
+            }
+        }
+        out.write_all(b"\n")?;
+    }
+    if let Some(uv) = &mesh.uvs {
+        for t in &uv.coords {
+            out.write_all(b"vt ")?;
+            write_f64(out, t[0])?;
+            out.write_all(b" ")?;
+            write_f64(out, t[1])?;
+            out.write_all(b"\n")?;
+        }
+    }
+    let mut itoa = itoa::Buffer::new();
+    let (mut last_o, mut last_g) = (NO_LABEL, NO_LABEL);
+    for (f, w) in mesh.face_offsets.windows(2).enumerate() {
+        if let Some(objects) = &mesh.objects {
+            let o = objects.of_face[f];
+            if o != last_o && o != NO_LABEL {
+                writeln!(out, "o {}", objects.names[o as usize])?;
+            }
+            last_o = o;
+        }
+        if let Some(groups) = &mesh.groups {
+            let g = groups.of_face[f];
+            if g != last_g && g != NO_LABEL {
+                writeln!(out, "g {}", groups.names[g as usize])?;
+            }
+            last_g = g;
+        }
+        out.write_all(b"f")?;
+        for k in w[0] as usize..w[1] as usize {
+            out.write_all(b" ")?;
+            out.write_all(itoa.format(mesh.face_indices[k] + 1).as_bytes())?;
+            if let Some(uv) = &mesh.uvs {
+                out.write_all(b"/")?;
+                out.write_all(itoa.format(uv.corner_indices[k] + 1).as_bytes())?;
+            }
+        }
+        out.write_all(b"\n")?;
+    }
+    Ok(())
+}

@@ -1,0 +1,7 @@
+//! Polygon meshes as surfkit holds them (`PolygonMesh`, a soup that never refuses input)
+//! and their files (`io`: OBJ, PLY, OFF).
+
+pub mod io;
+mod polygon_mesh;
+
+pub use polygon_mesh::{CornerUvs, FaceLabels, PolygonMesh, NO_LABEL};
