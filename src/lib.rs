@@ -8,5 +8,6 @@
 
 pub mod error;
 pub mod mesh;
+pub mod tolerance;
 
 pub use error::{Error, Result};
