@@ -1,0 +1,275 @@
+// Implementation of the OpenMesh bridge (see bridge.h).
+#include "surfkit/cpp/openmesh/bridge.h"
+
+#include <mutex>
+#include <sstream>
+#include <stdexcept>
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include "surfkit/src/ffi/openmesh.rs.h"
+
+namespace surfkit {
+namespace om {
+
+namespace {
+
+constexpr uint32_t NONE = 0xffffffffu;
+
+// Face status codes; keep in step with `FaceStatus` in src/ffi/openmesh.rs.
+constexpr uint8_t ADDED = 0;
+constexpr uint8_t COMPLEX_EDGE = 1;
+constexpr uint8_t COMPLEX_VERTEX = 2;
+constexpr uint8_t RELINK_FAILED = 3;
+constexpr uint8_t DEGENERATE = 4;
+constexpr uint8_t OTHER = 5;
+
+// OpenMesh writes its complaints to the global omerr() stream, which goes to std::cerr.
+// While surfkit calls OpenMesh, omerr() is redirected into a string (and std::cerr is
+// reconnected afterwards if it was connected), under a lock since the stream is global.
+std::mutex omerr_lock;
+
+class CaptureOmerr {
+ public:
+  CaptureOmerr() : guard_(omerr_lock) {
+    omerr().flush();
+    had_cerr_ = omerr().disconnect(std::cerr);
+    omerr().connect(captured_);
+  }
+  ~CaptureOmerr() {
+    omerr().flush();
+    omerr().disconnect(captured_);
+    if (had_cerr_) omerr().connect(std::cerr);
+  }
+  /// What OpenMesh said since the last call.
+  std::string take() {
+    omerr().flush();
+    std::string s = captured_.str();
+    captured_.str("");
+    return s;
+  }
+
+ private:
+  std::lock_guard<std::mutex> guard_;
+  std::ostringstream captured_;
+  bool had_cerr_ = false;
+};
+
+uint8_t classify(const std::string& message) {
+  if (message.find("complex edge") != std::string::npos) return COMPLEX_EDGE;
+  if (message.find("complex vertex") != std::string::npos) return COMPLEX_VERTEX;
+  if (message.find("re-linking") != std::string::npos) return RELINK_FAILED;
+  return OTHER;
+}
+
+bool is_degenerate(const std::vector<PolyMesh::VertexHandle>& vs) {
+  if (vs.size() < 3) return true;
+  for (size_t i = 0; i < vs.size(); ++i)
+    for (size_t j = i + 1; j < vs.size(); ++j)
+      if (vs[i] == vs[j]) return true;
+  return false;
+}
+
+// Adds one face; returns its status and appends OpenMesh's message (if any) to `said`.
+uint8_t add_one(HalfEdgeMesh& m, const uint32_t* corners, size_t n, uint32_t input_id,
+                CaptureOmerr& capture, std::string& said) {
+  std::vector<PolyMesh::VertexHandle> vs(n);
+  for (size_t k = 0; k < n; ++k) {
+    if (corners[k] >= m.mesh.n_vertices())
+      throw std::out_of_range("face " + std::to_string(input_id) + " refers to vertex " +
+                              std::to_string(corners[k]) + " but the mesh has " +
+                              std::to_string(m.mesh.n_vertices()) + " vertices");
+    vs[k] = PolyMesh::VertexHandle(static_cast<int>(corners[k]));
+  }
+  if (is_degenerate(vs)) return DEGENERATE;
+  auto fh = m.mesh.add_face(vs);
+  std::string msg = capture.take();
+  if (fh.is_valid()) {
+    m.input_face.push_back(input_id);
+    return ADDED;
+  }
+  if (msg.empty()) msg = "PolyMeshT::add_face: refused without a message\n";
+  said += "face " + std::to_string(input_id) + ": " + msg;
+  return classify(msg);
+}
+
+}  // namespace
+
+std::unique_ptr<HalfEdgeMesh> build(rust::Slice<const double> positions,
+                                    rust::Slice<const uint32_t> offsets,
+                                    rust::Slice<const uint32_t> indices, BuildLog& log) {
+  if (positions.size() % 3 != 0) throw std::invalid_argument("positions must be x,y,z triples");
+  if (offsets.empty() || offsets[0] != 0 || offsets[offsets.size() - 1] != indices.size())
+    throw std::invalid_argument("face offsets must run from 0 to the number of indices");
+  auto m = std::make_unique<HalfEdgeMesh>();
+  const size_t nv = positions.size() / 3;
+  const size_t nf = offsets.size() - 1;
+  m->mesh.reserve(nv, indices.size(), nf);
+  for (size_t v = 0; v < nv; ++v)
+    m->mesh.add_vertex(PolyMesh::Point(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]));
+  m->input_face.reserve(nf);
+  log.face_status.reserve(nf);
+  std::string said;
+  CaptureOmerr capture;
+  for (size_t f = 0; f < nf; ++f) {
+    if (offsets[f + 1] < offsets[f]) throw std::invalid_argument("face offsets decrease at face " + std::to_string(f));
+    log.face_status.push_back(add_one(*m, indices.data() + offsets[f], offsets[f + 1] - offsets[f],
+                                      static_cast<uint32_t>(f), capture, said));
+  }
+  log.messages = said;
+  return m;
+}
+
+uint8_t HalfEdgeMesh::add_face(rust::Slice<const uint32_t> corners, uint32_t input_id,
+                               rust::String& message) {
+  CaptureOmerr capture;
+  std::string said;
+  uint8_t status = add_one(*this, corners.data(), corners.size(), input_id, capture, said);
+  message = said;
+  return status;
+}
+
+size_t HalfEdgeMesh::n_vertices() const { return mesh.n_vertices(); }
+size_t HalfEdgeMesh::n_edges() const { return mesh.n_edges(); }
+size_t HalfEdgeMesh::n_faces() const { return mesh.n_faces(); }
+
+void HalfEdgeMesh::boundary_loops(rust::Vec<uint32_t>& offsets, rust::Vec<uint32_t>& vertices) const {
+  // Walk boundary half-edges; at each vertex continue with the next boundary half-edge of
+  // the same fan of faces (rotating through prev/opposite, which never leaves the fan), so
+  // that at a pinch vertex each fan's boundary closes its own loop. OpenMesh's own
+  // next_halfedge link at such a vertex may jump between fans.
+  std::vector<char> seen(mesh.n_halfedges(), 0);
+  offsets.clear();
+  vertices.clear();
+  offsets.push_back(0);
+  for (auto h : mesh.halfedges()) {
+    if (!h.is_boundary() || seen[h.idx()]) continue;
+    auto cur = h;
+    while (!seen[cur.idx()]) {
+      seen[cur.idx()] = 1;
+      vertices.push_back(static_cast<uint32_t>(cur.from().idx()));
+      // Find the boundary half-edge leaving cur.to() in the same fan.
+      auto g = cur.opp();
+      size_t guard = 0;
+      while (!g.is_boundary()) {
+        g = g.prev().opp();
+        if (++guard > mesh.n_halfedges()) throw std::runtime_error("boundary walk did not close");
+      }
+      cur = g;
+    }
+    offsets.push_back(static_cast<uint32_t>(vertices.size()));
+  }
+}
+
+void HalfEdgeMesh::vertex_valences(rust::Vec<uint32_t>& out) const {
+  out.clear();
+  out.reserve(mesh.n_vertices());
+  for (auto v : mesh.vertices()) out.push_back(static_cast<uint32_t>(mesh.valence(v)));
+}
+
+void HalfEdgeMesh::edges(rust::Vec<uint32_t>& vertices, rust::Vec<uint32_t>& faces) const {
+  vertices.clear();
+  faces.clear();
+  vertices.reserve(2 * mesh.n_edges());
+  faces.reserve(2 * mesh.n_edges());
+  for (auto e : mesh.edges()) {
+    for (int side = 0; side < 2; ++side) {
+      auto h = e.halfedge(side);
+      vertices.push_back(static_cast<uint32_t>(h.from().idx()));
+      faces.push_back(h.face().is_valid() ? input_face[h.face().idx()] : NONE);
+    }
+  }
+}
+
+void HalfEdgeMesh::face_neighbours(rust::Vec<uint32_t>& offsets, rust::Vec<uint32_t>& neighbours) const {
+  offsets.clear();
+  neighbours.clear();
+  offsets.push_back(0);
+  for (auto f : mesh.faces()) {
+    for (auto h : f.halfedges()) {
+      auto o = h.opp().face();
+      neighbours.push_back(o.is_valid() ? input_face[o.idx()] : NONE);
+    }
+    offsets.push_back(static_cast<uint32_t>(neighbours.size()));
+  }
+}
+
+uint32_t HalfEdgeMesh::connected_components(rust::Vec<uint32_t>& face_component) const {
+  face_component.clear();
+  std::vector<uint32_t> comp(mesh.n_faces(), NONE);
+  uint32_t count = 0;
+  std::vector<OpenMesh::SmartFaceHandle> stack;
+  for (auto seed : mesh.faces()) {
+    if (comp[seed.idx()] != NONE) continue;
+    comp[seed.idx()] = count;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      auto f = stack.back();
+      stack.pop_back();
+      for (auto g : f.faces())
+        if (comp[g.idx()] == NONE) {
+          comp[g.idx()] = count;
+          stack.push_back(g);
+        }
+    }
+    ++count;
+  }
+  for (auto c : comp) face_component.push_back(c);
+  return count;
+}
+
+void HalfEdgeMesh::positions(rust::Vec<double>& out) const {
+  out.clear();
+  out.reserve(3 * mesh.n_vertices());
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    out.push_back(p[0]);
+    out.push_back(p[1]);
+    out.push_back(p[2]);
+  }
+}
+
+void HalfEdgeMesh::set_positions(rust::Slice<const double> positions) {
+  if (positions.size() != 3 * mesh.n_vertices())
+    throw std::invalid_argument("expected " + std::to_string(3 * mesh.n_vertices()) +
+                                " coordinates, got " + std::to_string(positions.size()));
+  for (auto v : mesh.vertices())
+    mesh.set_point(v, PolyMesh::Point(positions[3 * v.idx()], positions[3 * v.idx() + 1],
+                                      positions[3 * v.idx() + 2]));
+}
+
+void HalfEdgeMesh::write_with_openmesh(rust::Str path) const {
+  CaptureOmerr capture;
+  std::string p(path.data(), path.size());
+  OpenMesh::IO::Options opt;
+  if (!OpenMesh::IO::write_mesh(mesh, p, opt)) {
+    std::string msg = capture.take();
+    throw std::runtime_error("OpenMesh could not write " + p + (msg.empty() ? "" : ": " + msg));
+  }
+}
+
+std::unique_ptr<HalfEdgeMesh> read_with_openmesh(rust::Str path) {
+  CaptureOmerr capture;
+  auto m = std::make_unique<HalfEdgeMesh>();
+  std::string p(path.data(), path.size());
+  if (!OpenMesh::IO::read_mesh(m->mesh, p)) {
+    std::string msg = capture.take();
+    throw std::runtime_error("OpenMesh could not read " + p + (msg.empty() ? "" : ": " + msg));
+  }
+  m->input_face.resize(m->mesh.n_faces());
+  for (size_t f = 0; f < m->input_face.size(); ++f) m->input_face[f] = static_cast<uint32_t>(f);
+  return m;
+}
+
+rust::String openmesh_version() {
+#ifdef OM_VERSION
+  int v = OM_VERSION;
+  return std::to_string((v >> 16) & 0xff) + "." + std::to_string((v >> 8) & 0xff);
+#else
+  return "unknown";
+#endif
+}
+
+}  // namespace om
+}  // namespace surfkit

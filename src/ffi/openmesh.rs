@@ -1,0 +1,80 @@
+//! cxx bridge to `cpp/openmesh/bridge.{h,cpp}`: an OpenMesh PolyMesh (double points) built
+//! from a soup in one call and queried through flat arrays. C++ exceptions arrive as
+//! `Err(cxx::Exception)`.
+
+#[cxx::bridge(namespace = "surfkit::om")]
+pub mod bridge {
+    /// What happened to each input face, and everything OpenMesh said about it.
+    struct BuildLog {
+        /// One [`FaceStatus`](crate::ffi::openmesh::FaceStatus) code per input face.
+        face_status: Vec<u8>,
+        messages: String,
+    }
+
+    unsafe extern "C++" {
+        include!("surfkit/cpp/openmesh/bridge.h");
+
+        type HalfEdgeMesh;
+
+        fn build(
+            positions: &[f64],
+            offsets: &[u32],
+            indices: &[u32],
+            log: &mut BuildLog,
+        ) -> Result<UniquePtr<HalfEdgeMesh>>;
+        fn read_with_openmesh(path: &str) -> Result<UniquePtr<HalfEdgeMesh>>;
+        fn openmesh_version() -> String;
+
+        fn n_vertices(self: &HalfEdgeMesh) -> usize;
+        fn n_edges(self: &HalfEdgeMesh) -> usize;
+        fn n_faces(self: &HalfEdgeMesh) -> usize;
+        fn boundary_loops(self: &HalfEdgeMesh, offsets: &mut Vec<u32>, vertices: &mut Vec<u32>)
+            -> Result<()>;
+        fn vertex_valences(self: &HalfEdgeMesh, out: &mut Vec<u32>);
+        fn edges(self: &HalfEdgeMesh, vertices: &mut Vec<u32>, faces: &mut Vec<u32>);
+        fn face_neighbours(self: &HalfEdgeMesh, offsets: &mut Vec<u32>, neighbours: &mut Vec<u32>);
+        fn connected_components(self: &HalfEdgeMesh, face_component: &mut Vec<u32>) -> u32;
+        fn positions(self: &HalfEdgeMesh, out: &mut Vec<f64>);
+        fn set_positions(self: Pin<&mut HalfEdgeMesh>, positions: &[f64]) -> Result<()>;
+        fn add_face(
+            self: Pin<&mut HalfEdgeMesh>,
+            corners: &[u32],
+            input_id: u32,
+            message: &mut String,
+        ) -> Result<u8>;
+        fn write_with_openmesh(self: &HalfEdgeMesh, path: &str) -> Result<()>;
+    }
+}
+
+/// Marks "no face" / "no vertex" in the flat arrays the bridge returns.
+pub const NONE: u32 = u32::MAX;
+
+/// Why OpenMesh took or refused a face (codes of `bridge.cpp`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FaceStatus {
+    Added,
+    /// An edge of the face already has a face on the side this one needs.
+    ComplexEdge,
+    /// A vertex of the face cannot take another fan of faces there.
+    ComplexVertex,
+    /// OpenMesh could not re-link the boundary around a vertex.
+    RelinkFailed,
+    /// Fewer than 3 corners or a repeated vertex: never given to OpenMesh.
+    Degenerate,
+    /// Refused for a reason OpenMesh did not name.
+    Other,
+}
+
+impl FaceStatus {
+    pub fn from_code(code: u8) -> FaceStatus {
+        match code {
+            0 => FaceStatus::Added,
+            1 => FaceStatus::ComplexEdge,
+            2 => FaceStatus::ComplexVertex,
+            3 => FaceStatus::RelinkFailed,
+            4 => FaceStatus::Degenerate,
+            _ => FaceStatus::Other,
+        }
+    }
+}
