@@ -48,7 +48,10 @@ fn find(lib: &SystemLibrary) -> Found {
     }
     prefixes.push(PathBuf::from("/usr"));
     prefixes.push(PathBuf::from("/usr/local"));
-    let multiarch = format!("lib/{}-linux-gnu", env::var("CARGO_CFG_TARGET_ARCH").unwrap_or_default());
+    let multiarch = format!(
+        "lib/{}-linux-gnu",
+        env::var("CARGO_CFG_TARGET_ARCH").unwrap_or_default()
+    );
     for prefix in &prefixes {
         let include = prefix.join("include");
         if !include.join(lib.header).exists() {
@@ -57,16 +60,30 @@ fn find(lib: &SystemLibrary) -> Found {
         let lib_dir = [multiarch.as_str(), "lib", "lib64"]
             .iter()
             .map(|d| prefix.join(d))
-            .find(|d| lib.link.iter().all(|l| d.join(format!("lib{l}.so")).exists() || d.join(format!("lib{l}.a")).exists()));
+            .find(|d| {
+                lib.link.iter().all(|l| {
+                    d.join(format!("lib{l}.so")).exists() || d.join(format!("lib{l}.a")).exists()
+                })
+            });
         if lib_dir.is_none() {
-            fail(lib, &format!("found its headers in {} but not the libraries {:?}", include.display(), lib.link));
+            fail(
+                lib,
+                &format!(
+                    "found its headers in {} but not the libraries {:?}",
+                    include.display(),
+                    lib.link
+                ),
+            );
         }
         return Found {
             include,
             lib: lib_dir,
         };
     }
-    fail(lib, &format!("header {} not found under {:?}", lib.header, prefixes))
+    fail(
+        lib,
+        &format!("header {} not found under {:?}", lib.header, prefixes),
+    )
 }
 
 fn fail(lib: &SystemLibrary, detail: &str) -> ! {

@@ -8,6 +8,7 @@
 
 pub mod error;
 mod ffi;
+pub mod halfedge;
 pub mod mesh;
 pub mod tolerance;
 

@@ -87,6 +87,7 @@ uint8_t add_one(HalfEdgeMesh& m, const uint32_t* corners, size_t n, uint32_t inp
   std::string msg = capture.take();
   if (fh.is_valid()) {
     m.input_face.push_back(input_id);
+    m.first_corner.push_back(corners[0]);
     return ADDED;
   }
   if (msg.empty()) msg = "PolyMeshT::add_face: refused without a message\n";
@@ -133,6 +134,12 @@ uint8_t HalfEdgeMesh::add_face(rust::Slice<const uint32_t> corners, uint32_t inp
 size_t HalfEdgeMesh::n_vertices() const { return mesh.n_vertices(); }
 size_t HalfEdgeMesh::n_edges() const { return mesh.n_edges(); }
 size_t HalfEdgeMesh::n_faces() const { return mesh.n_faces(); }
+
+void HalfEdgeMesh::face_ids(rust::Vec<uint32_t>& out) const {
+  out.clear();
+  out.reserve(input_face.size());
+  for (auto f : input_face) out.push_back(f);
+}
 
 void HalfEdgeMesh::boundary_loops(rust::Vec<uint32_t>& offsets, rust::Vec<uint32_t>& vertices) const {
   // Walk boundary half-edges; at each vertex continue with the next boundary half-edge of
@@ -187,10 +194,14 @@ void HalfEdgeMesh::face_neighbours(rust::Vec<uint32_t>& offsets, rust::Vec<uint3
   neighbours.clear();
   offsets.push_back(0);
   for (auto f : mesh.faces()) {
-    for (auto h : f.halfedges()) {
+    auto start = f.halfedge();
+    while (static_cast<uint32_t>(start.from().idx()) != first_corner[f.idx()]) start = start.next();
+    auto h = start;
+    do {
       auto o = h.opp().face();
       neighbours.push_back(o.is_valid() ? input_face[o.idx()] : NONE);
-    }
+      h = h.next();
+    } while (h != start);
     offsets.push_back(static_cast<uint32_t>(neighbours.size()));
   }
 }
@@ -258,7 +269,11 @@ std::unique_ptr<HalfEdgeMesh> read_with_openmesh(rust::Str path) {
     throw std::runtime_error("OpenMesh could not read " + p + (msg.empty() ? "" : ": " + msg));
   }
   m->input_face.resize(m->mesh.n_faces());
-  for (size_t f = 0; f < m->input_face.size(); ++f) m->input_face[f] = static_cast<uint32_t>(f);
+  m->first_corner.resize(m->mesh.n_faces());
+  for (auto f : m->mesh.faces()) {
+    m->input_face[f.idx()] = static_cast<uint32_t>(f.idx());
+    m->first_corner[f.idx()] = static_cast<uint32_t>(f.halfedge().from().idx());
+  }
   return m;
 }
 

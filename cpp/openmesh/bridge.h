@@ -31,10 +31,14 @@ class HalfEdgeMesh {
  public:
   PolyMesh mesh;
   std::vector<uint32_t> input_face;
+  /// First corner of each accepted face as given, so that per-corner answers follow the
+  /// input's corner order (OpenMesh's face half-edge may start at another corner).
+  std::vector<uint32_t> first_corner;
 
   size_t n_vertices() const;
   size_t n_edges() const;
   size_t n_faces() const;
+  void face_ids(rust::Vec<uint32_t>& out) const;
   void boundary_loops(rust::Vec<uint32_t>& offsets, rust::Vec<uint32_t>& vertices) const;
   void vertex_valences(rust::Vec<uint32_t>& out) const;
   void edges(rust::Vec<uint32_t>& vertices, rust::Vec<uint32_t>& faces) const;

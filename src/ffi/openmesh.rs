@@ -6,7 +6,7 @@
 pub mod bridge {
     /// What happened to each input face, and everything OpenMesh said about it.
     struct BuildLog {
-        /// One [`FaceStatus`](crate::ffi::openmesh::FaceStatus) code per input face.
+        /// One `halfedge::FaceStatus` code per input face.
         face_status: Vec<u8>,
         messages: String,
     }
@@ -28,8 +28,12 @@ pub mod bridge {
         fn n_vertices(self: &HalfEdgeMesh) -> usize;
         fn n_edges(self: &HalfEdgeMesh) -> usize;
         fn n_faces(self: &HalfEdgeMesh) -> usize;
-        fn boundary_loops(self: &HalfEdgeMesh, offsets: &mut Vec<u32>, vertices: &mut Vec<u32>)
-            -> Result<()>;
+        fn face_ids(self: &HalfEdgeMesh, out: &mut Vec<u32>);
+        fn boundary_loops(
+            self: &HalfEdgeMesh,
+            offsets: &mut Vec<u32>,
+            vertices: &mut Vec<u32>,
+        ) -> Result<()>;
         fn vertex_valences(self: &HalfEdgeMesh, out: &mut Vec<u32>);
         fn edges(self: &HalfEdgeMesh, vertices: &mut Vec<u32>, faces: &mut Vec<u32>);
         fn face_neighbours(self: &HalfEdgeMesh, offsets: &mut Vec<u32>, neighbours: &mut Vec<u32>);
@@ -43,38 +47,5 @@ pub mod bridge {
             message: &mut String,
         ) -> Result<u8>;
         fn write_with_openmesh(self: &HalfEdgeMesh, path: &str) -> Result<()>;
-    }
-}
-
-/// Marks "no face" / "no vertex" in the flat arrays the bridge returns.
-pub const NONE: u32 = u32::MAX;
-
-/// Why OpenMesh took or refused a face (codes of `bridge.cpp`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum FaceStatus {
-    Added,
-    /// An edge of the face already has a face on the side this one needs.
-    ComplexEdge,
-    /// A vertex of the face cannot take another fan of faces there.
-    ComplexVertex,
-    /// OpenMesh could not re-link the boundary around a vertex.
-    RelinkFailed,
-    /// Fewer than 3 corners or a repeated vertex: never given to OpenMesh.
-    Degenerate,
-    /// Refused for a reason OpenMesh did not name.
-    Other,
-}
-
-impl FaceStatus {
-    pub fn from_code(code: u8) -> FaceStatus {
-        match code {
-            0 => FaceStatus::Added,
-            1 => FaceStatus::ComplexEdge,
-            2 => FaceStatus::ComplexVertex,
-            3 => FaceStatus::RelinkFailed,
-            4 => FaceStatus::Degenerate,
-            _ => FaceStatus::Other,
-        }
     }
 }

@@ -1,0 +1,32 @@
+//! Shared helpers of the integration tests: the fixture meshes and their reference values.
+
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+use serde_json::Value;
+
+/// The folder of the real meshes (copied from the shared fixtures, with REFERENCE.json).
+pub fn meshes_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/meshes")
+}
+
+/// Each fixture mesh with its reference record from REFERENCE.json.
+pub fn reference_meshes() -> Vec<(PathBuf, Value)> {
+    let text = std::fs::read_to_string(meshes_dir().join("REFERENCE.json")).unwrap();
+    let json: Value = serde_json::from_str(&text).unwrap();
+    json["meshes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| (meshes_dir().join(m["file"].as_str().unwrap()), m.clone()))
+        .collect()
+}
+
+/// A reference count as usize (panics with the field name if absent).
+pub fn count(record: &Value, field: &str) -> usize {
+    record[field]
+        .as_u64()
+        .unwrap_or_else(|| panic!("REFERENCE.json has no count {field} for {}", record["file"]))
+        as usize
+}
