@@ -6,6 +6,7 @@
 
 #![deny(unsafe_code)]
 
+pub mod cli;
 pub mod error;
 mod ffi;
 pub mod halfedge;

@@ -1,1 +1,5 @@
-fn main() {}
+//! The `surfkit` command (see `surfkit --help`).
+
+fn main() -> std::process::ExitCode {
+    surfkit::cli::main()
+}

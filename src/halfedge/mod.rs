@@ -12,10 +12,12 @@
 mod face_status;
 mod openmesh_mesh;
 mod reference;
+mod summary;
 
 pub use face_status::FaceStatus;
 pub use openmesh_mesh::{build, openmesh_version, read_with_openmesh, Built, OpenMeshHalfEdge};
 pub use reference::ReferenceTopology;
+pub use summary::{HalfEdgeCounts, MeshSummary, RefusedFace};
 
 use crate::error::Result;
 

@@ -1,0 +1,54 @@
+//! The `surfkit` command line: one file per subcommand; argument parsing and printing only.
+
+mod convert;
+mod demo;
+mod info;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// surfkit — the quality of surface models: topology checks, spline hole filling,
+/// subdivision and fairing, cross-checked with OpenMesh, OpenSubdiv, MeshLab and CGAL.
+#[derive(Parser, Debug)]
+#[command(name = "surfkit", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Counts, face arities, bounding box, and what OpenMesh's half-edge structure refused.
+    Info(info::InfoArgs),
+    /// Converts between OBJ, PLY (binary by default) and OFF.
+    Convert(convert::ConvertArgs),
+    /// Runs surfkit on its built-in example and writes the results to a folder.
+    Demo(demo::DemoArgs),
+}
+
+/// Runs the command line; errors are printed as one line naming the file and the problem.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Info(a) => info::run(a),
+        Command::Convert(a) => convert::run(a),
+        Command::Demo(a) => demo::run(a),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("surfkit: error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Prints a report as pretty JSON on standard output.
+fn print_json<T: serde::Serialize>(report: &T) -> crate::Result<()> {
+    let text = serde_json::to_string_pretty(report).map_err(|e| {
+        crate::Error::InvalidInput(format!("report cannot be written as JSON: {e}"))
+    })?;
+    println!("{text}");
+    Ok(())
+}
