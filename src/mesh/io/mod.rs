@@ -10,6 +10,7 @@ mod face_check;
 mod obj;
 mod off;
 mod ply;
+mod ply_fast;
 mod text;
 
 use std::path::Path;
