@@ -12,5 +12,6 @@ mod ffi;
 pub mod halfedge;
 pub mod mesh;
 pub mod tolerance;
+pub mod topology;
 
 pub use error::{Error, Result};

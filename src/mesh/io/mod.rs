@@ -19,6 +19,7 @@ use crate::error::{Error, Result};
 use crate::mesh::PolygonMesh;
 
 pub use atomic::write_atomically;
+pub use face_check::degeneracy;
 pub use ply::PlyEncoding;
 
 /// The mesh file formats surfkit reads and writes.

@@ -1,0 +1,324 @@
+//! The raw-polygon topology of the registered facets, computed from the registry alone (no
+//! half-edge structure, so nothing is refused): which facet sides run each edge, fans of
+//! facets at each vertex, edge-connected components, boundary loops, orientation.
+//!
+//! Definitions follow `fixtures/meshes/REFERENCE.json` (measured there by a raw-polygon
+//! script and cross-checked with MeshLab and trimesh).
+
+use super::disjoint_sets::DisjointSets;
+use super::registry::EatRegistry;
+
+const NONE: u32 = u32::MAX;
+
+/// One side of an edge: the facet, the corner the edge leaves from, and whether the facet
+/// runs the edge from its smaller to its larger vertex id.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EdgeSide {
+    pub facet: u32,
+    pub corner: u32,
+    pub forward: bool,
+}
+
+/// Everything the flaw locator and the statistics need, computed once.
+#[derive(Debug, Clone)]
+pub struct Structure {
+    /// Edge sides grouped by edge: sides of edge `e` are `sides[side_offsets[e]..side_offsets[e+1]]`.
+    pub side_offsets: Vec<u32>,
+    pub sides: Vec<EdgeSide>,
+    /// Facet of each corner.
+    pub corner_facet: Vec<u32>,
+    /// The fan (a representative corner) each corner's facet belongs to at its vertex.
+    pub corner_fan: Vec<u32>,
+    /// Edge-connected component of each facet, numbered from 0 in facet order.
+    pub facet_component: Vec<u32>,
+    pub component_count: u32,
+    /// Vertex ids (input ids) with more than one fan of facets.
+    pub non_manifold_vertices: Vec<u32>,
+    /// Number of fans at each non-manifold vertex (parallel to `non_manifold_vertices`).
+    pub fans: Vec<u32>,
+    /// Boundary loop (connected piece of the boundary-edge graph) of each edge, or NONE.
+    pub edge_loop: Vec<u32>,
+    pub boundary_loop_count: u32,
+    /// Per component: consistently orientable (None where a non-manifold edge blocks the question).
+    pub component_orientable: Vec<Option<bool>>,
+}
+
+impl Structure {
+    pub fn sides_of(&self, edge: usize) -> &[EdgeSide] {
+        &self.sides[self.side_offsets[edge] as usize..self.side_offsets[edge + 1] as usize]
+    }
+
+    /// Computes the structure of everything registered so far. O(corners · α).
+    pub fn of(registry: &EatRegistry) -> Structure {
+        let (offsets, corners) = registry.facet_arrays();
+        let corner_edge = registry.corner_edges();
+        let edges = registry.edges();
+        let facet_count = registry.facet_count();
+
+        let mut corner_facet = vec![0u32; corners.len()];
+        for f in 0..facet_count {
+            corner_facet[offsets[f] as usize..offsets[f + 1] as usize].fill(f as u32);
+        }
+
+        // Edge sides, grouped by edge (counting sort: edge e has ec sides).
+        let mut side_offsets = Vec::with_capacity(edges.len() + 1);
+        side_offsets.push(0u32);
+        for e in edges {
+            side_offsets.push(side_offsets.last().unwrap() + e.ec);
+        }
+        let mut fill = side_offsets.clone();
+        let mut sides = vec![
+            EdgeSide {
+                facet: 0,
+                corner: 0,
+                forward: false
+            };
+            *side_offsets.last().unwrap() as usize
+        ];
+        for (k, &e) in corner_edge.iter().enumerate() {
+            if e == NONE {
+                continue;
+            }
+            let v = corners[k];
+            sides[fill[e as usize] as usize] = EdgeSide {
+                facet: corner_facet[k],
+                corner: k as u32,
+                forward: v == edges[e as usize].a,
+            };
+            fill[e as usize] += 1;
+        }
+
+        // Components: facets joined through shared edges.
+        let mut facet_sets = DisjointSets::new(facet_count);
+        // Fans: corners at the same vertex joined through a shared edge at that vertex.
+        let mut corner_sets = DisjointSets::new(corners.len());
+        let next_corner = |k: u32| -> u32 {
+            let f = corner_facet[k as usize] as usize;
+            let (start, end) = (offsets[f], offsets[f + 1]);
+            if k + 1 == end {
+                start
+            } else {
+                k + 1
+            }
+        };
+        for e in 0..edges.len() {
+            let s = &sides[side_offsets[e] as usize..side_offsets[e + 1] as usize];
+            let Some(first) = s.first() else { continue };
+            let (fa, fb) = (first.corner, next_corner(first.corner));
+            let (first_a, first_b) = if first.forward { (fa, fb) } else { (fb, fa) };
+            for side in &s[1..] {
+                facet_sets.union(first.facet, side.facet);
+                let (ka, kb) = (side.corner, next_corner(side.corner));
+                let (at_a, at_b) = if side.forward { (ka, kb) } else { (kb, ka) };
+                corner_sets.union(first_a, at_a);
+                corner_sets.union(first_b, at_b);
+            }
+        }
+        let mut facet_component = vec![NONE; facet_count];
+        let mut label = vec![NONE; facet_count];
+        let mut component_count = 0;
+        for f in 0..facet_count {
+            let r = facet_sets.find(f as u32) as usize;
+            if label[r] == NONE {
+                label[r] = component_count;
+                component_count += 1;
+            }
+            facet_component[f] = label[r];
+        }
+
+        // Fans per vertex: count distinct corner roots.
+        let max_vertex = corners.iter().copied().max().map_or(0, |m| m as usize + 1);
+        let corner_fan: Vec<u32> = (0..corners.len() as u32)
+            .map(|k| corner_sets.find(k))
+            .collect();
+        let mut first_root = vec![NONE; max_vertex];
+        let mut fan_roots: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
+        for (k, &v) in corners.iter().enumerate() {
+            let root = corner_fan[k];
+            let first = &mut first_root[v as usize];
+            if *first == NONE {
+                *first = root;
+            } else if *first != root {
+                let roots = fan_roots.entry(v).or_insert_with(|| vec![*first]);
+                if !roots.contains(&root) {
+                    roots.push(root);
+                }
+            }
+        }
+        let (non_manifold_vertices, fans) = fan_roots
+            .into_iter()
+            .map(|(v, r)| (v, r.len() as u32))
+            .unzip();
+
+        // Boundary loops: pieces of the graph of edges with exactly one side.
+        let mut vertex_sets = DisjointSets::new(max_vertex);
+        for e in edges.iter().filter(|e| e.ec == 1) {
+            vertex_sets.union(e.a, e.b);
+        }
+        let mut loop_label = vec![NONE; max_vertex];
+        let mut boundary_loop_count = 0;
+        let edge_loop = edges
+            .iter()
+            .map(|e| {
+                if e.ec != 1 {
+                    return NONE;
+                }
+                let r = vertex_sets.find(e.a) as usize;
+                if loop_label[r] == NONE {
+                    loop_label[r] = boundary_loop_count;
+                    boundary_loop_count += 1;
+                }
+                loop_label[r]
+            })
+            .collect();
+
+        let component_orientable = orientability(
+            facet_count,
+            &facet_component,
+            component_count,
+            &side_offsets,
+            &sides,
+        );
+
+        Structure {
+            side_offsets,
+            sides,
+            corner_facet,
+            corner_fan,
+            facet_component,
+            component_count,
+            non_manifold_vertices,
+            fans,
+            edge_loop,
+            boundary_loop_count,
+            component_orientable,
+        }
+    }
+}
+
+/// Whether each component's facets can be flipped to agree across every two-sided edge:
+/// a breadth-first 2-colouring of "flip" across edges (two facets running an edge the same
+/// way must differ in flip). None for components with an edge of three or more sides.
+fn orientability(
+    facet_count: usize,
+    facet_component: &[u32],
+    component_count: u32,
+    side_offsets: &[u32],
+    sides: &[EdgeSide],
+) -> Vec<Option<bool>> {
+    let mut result = vec![Some(true); component_count as usize];
+    // Facet adjacency through two-sided edges: (neighbour, same_direction).
+    let mut adjacency_count = vec![0u32; facet_count + 1];
+    for e in 0..side_offsets.len() - 1 {
+        let s = &sides[side_offsets[e] as usize..side_offsets[e + 1] as usize];
+        match s.len() {
+            2 => {
+                adjacency_count[s[0].facet as usize + 1] += 1;
+                adjacency_count[s[1].facet as usize + 1] += 1;
+            }
+            n if n > 2 => result[facet_component[s[0].facet as usize] as usize] = None,
+            _ => {}
+        }
+    }
+    for f in 0..facet_count {
+        adjacency_count[f + 1] += adjacency_count[f];
+    }
+    let mut fill = adjacency_count.clone();
+    let mut adjacency = vec![(0u32, false); *adjacency_count.last().unwrap() as usize];
+    for e in 0..side_offsets.len() - 1 {
+        let s = &sides[side_offsets[e] as usize..side_offsets[e + 1] as usize];
+        if s.len() == 2 {
+            let same = s[0].forward == s[1].forward;
+            for (a, b) in [(s[0].facet, s[1].facet), (s[1].facet, s[0].facet)] {
+                adjacency[fill[a as usize] as usize] = (b, same);
+                fill[a as usize] += 1;
+            }
+        }
+    }
+    let mut flip: Vec<Option<bool>> = vec![None; facet_count];
+    let mut queue = std::collections::VecDeque::new();
+    for seed in 0..facet_count {
+        if flip[seed].is_some() {
+            continue;
+        }
+        flip[seed] = Some(false);
+        queue.push_back(seed);
+        while let Some(f) = queue.pop_front() {
+            let mine = flip[f].unwrap();
+            for &(g, same) in
+                &adjacency[adjacency_count[f] as usize..adjacency_count[f + 1] as usize]
+            {
+                let wanted = mine ^ same;
+                match flip[g as usize] {
+                    None => {
+                        flip[g as usize] = Some(wanted);
+                        queue.push_back(g as usize);
+                    }
+                    Some(have) if have != wanted => {
+                        let c = facet_component[f] as usize;
+                        if result[c].is_some() {
+                            result[c] = Some(false);
+                        }
+                    }
+                    Some(_) => {}
+                }
+            }
+        }
+    }
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn registry(faces: &[&[u32]]) -> EatRegistry {
+        let mut r = EatRegistry::new();
+        for f in faces {
+            r.register_facet(f);
+        }
+        r
+    }
+
+    #[test]
+    fn bow_tie_has_one_pinch_vertex_and_one_boundary_loop() {
+        let r = registry(&[&[0, 1, 2], &[0, 3, 4]]);
+        let s = Structure::of(&r);
+        assert_eq!(s.non_manifold_vertices, vec![0]);
+        assert_eq!(s.fans, vec![2]);
+        assert_eq!(s.component_count, 2);
+        assert_eq!(s.boundary_loop_count, 1);
+    }
+
+    #[test]
+    fn moebius_strip_is_not_orientable() {
+        // A strip of 5 quads whose ends are glued with a half twist.
+        let r = registry(&[
+            &[0, 1, 6, 5],
+            &[1, 2, 7, 6],
+            &[2, 3, 8, 7],
+            &[3, 4, 9, 8],
+            &[4, 5, 0, 9],
+        ]);
+        let s = Structure::of(&r);
+        assert_eq!(s.component_count, 1);
+        assert_eq!(s.component_orientable, vec![Some(false)]);
+        assert_eq!(s.boundary_loop_count, 1);
+        assert!(s.non_manifold_vertices.is_empty());
+    }
+
+    #[test]
+    fn cube_is_orientable_and_closed() {
+        let r = registry(&[
+            &[0, 1, 3, 2],
+            &[2, 3, 5, 4],
+            &[4, 5, 7, 6],
+            &[6, 7, 1, 0],
+            &[1, 7, 5, 3],
+            &[6, 0, 2, 4],
+        ]);
+        let s = Structure::of(&r);
+        assert_eq!(s.component_orientable, vec![Some(true)]);
+        assert_eq!(s.boundary_loop_count, 0);
+    }
+}
