@@ -11,6 +11,7 @@ pub mod error;
 mod ffi;
 pub mod halfedge;
 pub mod mesh;
+pub mod shapes;
 pub mod tolerance;
 pub mod topology;
 

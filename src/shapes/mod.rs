@@ -1,0 +1,6 @@
+//! Procedural shapes surfkit builds itself: test models with a known topology and the
+//! examples of the papers (the EAT stamp).
+
+mod stamp;
+
+pub use stamp::{stamp, StampFlaw, STAMP_STAGES};
