@@ -2,6 +2,7 @@
 
 mod convert;
 mod demo;
+mod eat;
 mod info;
 
 use std::process::ExitCode;
@@ -23,6 +24,8 @@ enum Command {
     Info(info::InfoArgs),
     /// Converts between OBJ, PLY (binary by default) and OFF.
     Convert(convert::ConvertArgs),
+    /// The Euler Accompanying Test: V, E, F, χ at test points, and every topological flaw.
+    Eat(eat::EatArgs),
     /// Runs surfkit on its built-in example and writes the results to a folder.
     Demo(demo::DemoArgs),
 }
@@ -34,6 +37,7 @@ pub fn main() -> ExitCode {
         Command::Info(a) => info::run(a),
         Command::Convert(a) => convert::run(a),
         Command::Demo(a) => demo::run(a),
+        Command::Eat(a) => eat::run(a),
     };
     match result {
         Ok(code) => code,

@@ -12,20 +12,24 @@
 mod disjoint_sets;
 mod flaw;
 mod locator;
+mod mark;
 mod progressive;
 mod registry;
 mod scan;
+mod stages;
 mod statistics;
 mod structure;
 mod target;
 
 pub use flaw::{Flaw, FlawKind, LoopShape};
 pub use locator::{boundary_walks, LocatorOptions};
+pub use mark::{flaw_color, mark_flaws, SOUND};
 pub use progressive::{Checkpoint, FacetDetail, ModelCompanion};
 pub use registry::{EatRegistry, EdgeItem, FacetRegistration, VertexItem};
 pub use scan::{
     scan, ComponentTopology, EatOptions, EatReport, HalfEdgeReport, TestPoint, TopologyCounts,
 };
+pub use stages::{stage_ends, test_points, StageSource};
 pub use statistics::EatStatistics;
 pub use structure::Structure;
 pub use target::TargetTopology;
