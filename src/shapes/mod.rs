@@ -2,5 +2,7 @@
 //! examples of the papers (the EAT stamp).
 
 mod stamp;
+mod torus;
 
 pub use stamp::{stamp, StampFlaw, STAMP_STAGES};
+pub use torus::grid_torus;

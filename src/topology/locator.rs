@@ -1,7 +1,7 @@
 //! The flaw locator: every flaw of the registered facets, classified and placed.
 //! (Beyond the paper, which only tells that χ is wrong since the last verified point.)
 
-use rustc_hash::FxHashMap;
+use foldhash::{HashMap as FxHashMap, HashMapExt};
 
 use super::flaw::{Flaw, FlawKind, LoopShape};
 use super::registry::EatRegistry;
@@ -40,7 +40,7 @@ pub fn boundary_walks(registry: &EatRegistry, structure: &Structure) -> Vec<Vec<
         }
     };
     // Boundary half-edge w→u for a facet running u→w: keyed by (w, fan of the facet at w).
-    let mut leaving: FxHashMap<(u32, u32), Vec<(u32, u32)>> = FxHashMap::default();
+    let mut leaving: FxHashMap<(u32, u32), Vec<(u32, u32)>> = FxHashMap::new();
     let mut order = Vec::new();
     for (e, item) in registry.edges().iter().enumerate() {
         if item.ec != 1 {
@@ -56,7 +56,7 @@ pub fn boundary_walks(registry: &EatRegistry, structure: &Structure) -> Vec<Vec<
             .push((corners[ku as usize], structure.corner_fan[ku as usize]));
         order.push(key);
     }
-    let mut used: FxHashMap<(u32, u32), usize> = FxHashMap::default();
+    let mut used: FxHashMap<(u32, u32), usize> = FxHashMap::new();
     let mut loops = Vec::new();
     for start in order {
         if used.get(&start).copied().unwrap_or(0) >= leaving[&start].len() {
@@ -294,10 +294,9 @@ pub fn locate(
     }
 
     // Duplicated and degenerate facets.
-    let mut first_of_set: FxHashMap<u32, u32> = FxHashMap::default();
     for (f, &set) in registry.facet_sets().iter().enumerate() {
         let face = &corners[offsets[f] as usize..offsets[f + 1] as usize];
-        let first = *first_of_set.entry(set).or_insert(f as u32);
+        let first = registry.first_facet_of_set(set);
         if first != f as u32 {
             flaws.push(Flaw {
                 kind: FlawKind::DuplicatedFacet,
@@ -376,7 +375,7 @@ pub fn coincident_pairs(
     ids.sort_unstable();
     let mut pairs = Vec::new();
     if tolerance <= 0.0 {
-        let mut seen: FxHashMap<[u64; 3], u32> = FxHashMap::default();
+        let mut seen: FxHashMap<[u64; 3], u32> = FxHashMap::new();
         for v in ids {
             // +0.0 folds -0.0 into 0.0: the same place.
             let key = positions[v as usize].map(|c| (c + 0.0).to_bits());
@@ -389,7 +388,7 @@ pub fn coincident_pairs(
         return pairs;
     }
     let cell = |p: [f64; 3]| p.map(|c| (c / tolerance).floor() as i64);
-    let mut grid: FxHashMap<[i64; 3], Vec<u32>> = FxHashMap::default();
+    let mut grid: FxHashMap<[i64; 3], Vec<u32>> = FxHashMap::new();
     for v in ids {
         let p = positions[v as usize];
         let c = cell(p);

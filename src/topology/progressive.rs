@@ -63,6 +63,12 @@ impl ModelCompanion {
         }
     }
 
+    /// EAT-TA for one facet without the per-facet report (for scanning whole meshes).
+    pub fn register(&mut self, corners: &[u32], input_id: u32) -> u32 {
+        self.input_ids.push(input_id);
+        self.registry.register(corners)
+    }
+
     pub fn registry(&self) -> &EatRegistry {
         &self.registry
     }

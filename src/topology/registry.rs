@@ -11,8 +11,6 @@
 //!   F (a duplicated facet is a flaw to report, and F, E, V describe the file as written).
 //! - Edges with both ends at the same vertex (a repeated corner) are not edges.
 
-use rustc_hash::FxHashMap;
-
 /// A registered vertex: its input id and `vc`, the number of edges at it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct VertexItem {
@@ -51,15 +49,24 @@ pub struct FacetRegistration {
     pub edge_slots: Vec<u32>,
 }
 
+const NONE: u32 = u32::MAX;
+
 /// The three lists with counters. Facets are identified by registration order; vertices
 /// by input id (every id seen gets a Vertex item on first use).
+///
+/// Look-ups go through per-vertex chains rather than hash tables: the edges whose smaller
+/// end is `v` and the vertex sets whose smallest vertex is `v` are linked lists threaded
+/// through arrays, a few entries long, that stay in cache for meshes written in any
+/// sensible order (a hash table of millions of edges misses the cache on every facet).
 #[derive(Debug, Default, Clone)]
 pub struct EatRegistry {
     /// Vertex-list position of each input vertex id, or `u32::MAX` before its first use.
     slot_of_vertex: Vec<u32>,
     vertices: Vec<VertexItem>,
     edges: Vec<EdgeItem>,
-    edge_of: FxHashMap<u64, u32>,
+    /// First edge whose smaller end is the vertex (by input id), and the next such edge.
+    edge_head: Vec<u32>,
+    edge_next: Vec<u32>,
     /// Facet list: corners as offsets + indices, and the facet's distinct-set id.
     facet_offsets: Vec<u32>,
     facet_corners: Vec<u32>,
@@ -67,13 +74,17 @@ pub struct EatRegistry {
     /// Edge-list position of the edge leaving each corner (`u32::MAX` where the next corner
     /// repeats the vertex), parallel to `facet_corners`.
     corner_edge: Vec<u32>,
-    /// Distinct vertex sets: id by sorted corners, and `fc` per id.
-    set_of: FxHashMap<Box<[u32]>, u32>,
+    /// Distinct vertex sets: the first set whose smallest vertex is the vertex (by input
+    /// id), the next such set, a facet that has the set, and `fc` per set.
+    set_head: Vec<u32>,
+    set_next: Vec<u32>,
+    set_facet: Vec<u32>,
     fc: Vec<u32>,
 }
 
-fn edge_key(a: u32, b: u32) -> u64 {
-    (u64::from(a.min(b)) << 32) | u64::from(a.max(b))
+/// Whether two corner lists have the same vertex set.
+fn same_vertex_set(a: &[u32], b: &[u32]) -> bool {
+    a.iter().all(|v| b.contains(v)) && b.iter().all(|v| a.contains(v))
 }
 
 impl EatRegistry {
@@ -90,77 +101,122 @@ impl EatRegistry {
         r.slot_of_vertex.reserve(vertices);
         r.vertices.reserve(vertices);
         r.edges.reserve(corners / 2 + 16);
-        r.edge_of.reserve(corners / 2 + 16);
+        r.edge_next.reserve(corners / 2 + 16);
+        r.edge_head.reserve(vertices);
+        r.set_head.reserve(vertices);
         r.facet_offsets.reserve(facets + 1);
         r.facet_corners.reserve(corners);
         r.corner_edge.reserve(corners);
         r.facet_set.reserve(facets);
-        r.set_of.reserve(facets);
+        r.set_next.reserve(facets);
+        r.set_facet.reserve(facets);
         r.fc.reserve(facets);
         r
     }
 
     /// EAT-TA (Fig. 7): registers a facet, its new vertices and new edges, and increments
-    /// the counters. O(arity) expected time. Every facet is counted, degenerate or not.
+    /// the counters; returns what it did (the paper's per-facet output). O(arity) expected
+    /// time. Every facet is counted, degenerate or not.
     pub fn register_facet(&mut self, corners: &[u32]) -> FacetRegistration {
+        let facet = self.register(corners);
+        let start = self.facet_offsets[facet as usize] as usize;
+        FacetRegistration {
+            facet,
+            fc: self.facet_counter(facet as usize),
+            vertex_slots: corners
+                .iter()
+                .map(|&v| self.slot_of_vertex[v as usize])
+                .collect(),
+            edge_slots: self.corner_edge[start..start + corners.len()]
+                .iter()
+                .copied()
+                .filter(|&e| e != NONE)
+                .collect(),
+        }
+    }
+
+    /// EAT-TA without the per-facet report: returns the facet's position (fID).
+    pub fn register(&mut self, corners: &[u32]) -> u32 {
         let facet = self.facet_count() as u32;
-        let vertex_slots: Vec<u32> = corners.iter().map(|&v| self.register_vertex(v)).collect();
+        for &v in corners {
+            self.register_vertex(v);
+        }
         let n = corners.len();
-        let mut edge_slots = Vec::with_capacity(n);
         for k in 0..n {
             let (a, b) = (corners[k], corners[(k + 1) % n]);
             if a == b || n < 2 {
-                self.corner_edge.push(u32::MAX);
+                self.corner_edge.push(NONE);
                 continue;
             }
-            let next = self.edges.len() as u32;
-            let slot = *self.edge_of.entry(edge_key(a, b)).or_insert(next);
-            if slot == next {
-                self.edges.push(EdgeItem {
-                    a: a.min(b),
-                    b: a.max(b),
-                    ec: 0,
-                    forward: 0,
-                    first_facet: facet,
-                });
-                self.vertices[self.slot_of_vertex[a as usize] as usize].vc += 1;
-                self.vertices[self.slot_of_vertex[b as usize] as usize].vc += 1;
-            }
+            let slot = match self.edge_slot(a, b) {
+                Some(slot) => slot,
+                None => self.new_edge(a.min(b), a.max(b), facet),
+            };
             let e = &mut self.edges[slot as usize];
             e.ec += 1;
             if a < b {
                 e.forward += 1;
             }
-            edge_slots.push(slot);
             self.corner_edge.push(slot);
         }
-        let mut key: Vec<u32> = corners.to_vec();
-        key.sort_unstable();
-        key.dedup();
-        let next_set = self.fc.len() as u32;
-        let set = *self
-            .set_of
-            .entry(key.into_boxed_slice())
-            .or_insert(next_set);
-        if set == next_set {
-            self.fc.push(0);
-        }
+        let set = self.vertex_set_of(corners, facet);
         self.fc[set as usize] += 1;
         self.facet_set.push(set);
         self.facet_corners.extend_from_slice(corners);
         self.facet_offsets.push(self.facet_corners.len() as u32);
-        FacetRegistration {
-            facet,
-            fc: self.fc[set as usize],
-            vertex_slots,
-            edge_slots,
+        facet
+    }
+
+    fn new_edge(&mut self, a: u32, b: u32, facet: u32) -> u32 {
+        let slot = self.edges.len() as u32;
+        self.edges.push(EdgeItem {
+            a,
+            b,
+            ec: 0,
+            forward: 0,
+            first_facet: facet,
+        });
+        self.edge_next.push(self.edge_head[a as usize]);
+        self.edge_head[a as usize] = slot;
+        self.vertices[self.slot_of_vertex[a as usize] as usize].vc += 1;
+        self.vertices[self.slot_of_vertex[b as usize] as usize].vc += 1;
+        slot
+    }
+
+    /// The distinct-vertex-set id of `corners` (a new set if it is the first facet with
+    /// these vertices).
+    fn vertex_set_of(&mut self, corners: &[u32], facet: u32) -> u32 {
+        let Some(&min) = corners.iter().min() else {
+            // A facet with no corners: a set of its own.
+            self.set_next.push(NONE);
+            self.set_facet.push(facet);
+            self.fc.push(0);
+            return (self.fc.len() - 1) as u32;
+        };
+        let mut s = self.set_head[min as usize];
+        while s != NONE {
+            let f = self.set_facet[s as usize] as usize;
+            let other = &self.facet_corners
+                [self.facet_offsets[f] as usize..self.facet_offsets[f + 1] as usize];
+            if same_vertex_set(corners, other) {
+                return s;
+            }
+            s = self.set_next[s as usize];
         }
+        let set = self.fc.len() as u32;
+        self.set_next.push(self.set_head[min as usize]);
+        self.set_head[min as usize] = set;
+        self.set_facet.push(facet);
+        self.fc.push(0);
+        set
     }
 
     fn register_vertex(&mut self, v: u32) -> u32 {
         let i = v as usize;
         if i >= self.slot_of_vertex.len() {
-            self.slot_of_vertex.resize(i + 1, u32::MAX);
+            self.slot_of_vertex.resize(i + 1, NONE);
+            self.edge_head.resize(i + 1, NONE);
+            self.set_head.resize(i + 1, NONE);
         }
         if self.slot_of_vertex[i] == u32::MAX {
             self.slot_of_vertex[i] = self.vertices.len() as u32;
@@ -197,7 +253,15 @@ impl EatRegistry {
 
     /// The Edge-list position of the edge {a, b}, if registered.
     pub fn edge_slot(&self, a: u32, b: u32) -> Option<u32> {
-        self.edge_of.get(&edge_key(a, b)).copied()
+        let (lo, hi) = (a.min(b), a.max(b));
+        let mut e = *self.edge_head.get(lo as usize)?;
+        while e != NONE {
+            if self.edges[e as usize].b == hi {
+                return Some(e);
+            }
+            e = self.edge_next[e as usize];
+        }
+        None
     }
 
     /// The corners of facet `f` (registration order).
@@ -208,6 +272,11 @@ impl EatRegistry {
     /// `fc` of facet `f`'s vertex set, and whether `f` is its first facet.
     pub fn facet_counter(&self, f: usize) -> u32 {
         self.fc[self.facet_set[f] as usize]
+    }
+
+    /// The first facet registered with vertex set `set`.
+    pub fn first_facet_of_set(&self, set: u32) -> u32 {
+        self.set_facet[set as usize]
     }
 
     /// The distinct-vertex-set id of each facet (equal ids: duplicated facets).

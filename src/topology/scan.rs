@@ -151,7 +151,7 @@ pub fn scan(mesh: &PolygonMesh, options: &EatOptions) -> Result<EatReport> {
     };
     check(&mut companion, 0, &mut checkpoints);
     for (f, corners) in mesh.faces().enumerate() {
-        companion.register_facet(corners, f as u32);
+        companion.register(corners, f as u32);
         check(&mut companion, f + 1, &mut checkpoints);
     }
     let registry = companion.registry();
@@ -272,22 +272,30 @@ fn component_topology(
             out[c as usize].boundary_loops += 1;
         }
     }
-    // Vertices per component: a pinch vertex between components counts in each.
+    // Vertices per component: a pinch vertex between components counts in each. Most
+    // vertices lie in one component: keep the first, and collect the rare others.
     let (_, corners) = registry.facet_arrays();
-    let mut pairs: Vec<(u32, u32)> = corners
-        .iter()
-        .zip(&structure.corner_facet)
-        .map(|(&v, &f)| (v, structure.facet_component[f as usize]))
-        .collect();
-    pairs.sort_unstable();
-    pairs.dedup();
-    for (_, c) in pairs {
+    let mut first_component =
+        vec![u32::MAX; corners.iter().copied().max().map_or(0, |m| m as usize + 1)];
+    let mut others: Vec<(u32, u32)> = Vec::new();
+    for (&v, &f) in corners.iter().zip(&structure.corner_facet) {
+        let c = structure.facet_component[f as usize];
+        let first = &mut first_component[v as usize];
+        if *first == u32::MAX {
+            *first = c;
+            out[c as usize].vertices += 1;
+        } else if *first != c {
+            others.push((v, c));
+        }
+    }
+    others.sort_unstable();
+    others.dedup();
+    for (_, c) in others {
         out[c as usize].vertices += 1;
     }
     // A component is non-manifold where two of its own fans meet at a vertex, and where
     // one of its facets is degenerate.
-    let pinched: rustc_hash::FxHashSet<u32> =
-        structure.non_manifold_vertices.iter().copied().collect();
+    let pinched: foldhash::HashSet<u32> = structure.non_manifold_vertices.iter().copied().collect();
     let mut fans: Vec<(u32, u32, u32)> = corners
         .iter()
         .enumerate()

@@ -197,8 +197,9 @@ impl Structure {
 }
 
 /// Whether each component's facets can be flipped to agree across every two-sided edge:
-/// a breadth-first 2-colouring of "flip" across edges (two facets running an edge the same
-/// way must differ in flip). None for components with an edge of three or more sides.
+/// union–find with a parity bit ("flip relative to the root"); two facets running an edge
+/// the same way must differ in flip, and a contradiction makes the component
+/// non-orientable. None for components with an edge of three or more sides.
 fn orientability(
     facet_count: usize,
     facet_component: &[u32],
@@ -207,65 +208,69 @@ fn orientability(
     sides: &[EdgeSide],
 ) -> Vec<Option<bool>> {
     let mut result = vec![Some(true); component_count as usize];
-    // Facet adjacency through two-sided edges: (neighbour, same_direction).
-    let mut adjacency_count = vec![0u32; facet_count + 1];
+    let mut flips = ParitySets::new(facet_count);
     for e in 0..side_offsets.len() - 1 {
         let s = &sides[side_offsets[e] as usize..side_offsets[e + 1] as usize];
         match s.len() {
             2 => {
-                adjacency_count[s[0].facet as usize + 1] += 1;
-                adjacency_count[s[1].facet as usize + 1] += 1;
+                let differ = s[0].forward == s[1].forward;
+                if !flips.union(s[0].facet, s[1].facet, differ) {
+                    let c = facet_component[s[0].facet as usize] as usize;
+                    if result[c].is_some() {
+                        result[c] = Some(false);
+                    }
+                }
             }
             n if n > 2 => result[facet_component[s[0].facet as usize] as usize] = None,
             _ => {}
         }
     }
-    for f in 0..facet_count {
-        adjacency_count[f + 1] += adjacency_count[f];
-    }
-    let mut fill = adjacency_count.clone();
-    let mut adjacency = vec![(0u32, false); *adjacency_count.last().unwrap() as usize];
-    for e in 0..side_offsets.len() - 1 {
-        let s = &sides[side_offsets[e] as usize..side_offsets[e + 1] as usize];
-        if s.len() == 2 {
-            let same = s[0].forward == s[1].forward;
-            for (a, b) in [(s[0].facet, s[1].facet), (s[1].facet, s[0].facet)] {
-                adjacency[fill[a as usize] as usize] = (b, same);
-                fill[a as usize] += 1;
-            }
-        }
-    }
-    let mut flip: Vec<Option<bool>> = vec![None; facet_count];
-    let mut queue = std::collections::VecDeque::new();
-    for seed in 0..facet_count {
-        if flip[seed].is_some() {
-            continue;
-        }
-        flip[seed] = Some(false);
-        queue.push_back(seed);
-        while let Some(f) = queue.pop_front() {
-            let mine = flip[f].unwrap();
-            for &(g, same) in
-                &adjacency[adjacency_count[f] as usize..adjacency_count[f + 1] as usize]
-            {
-                let wanted = mine ^ same;
-                match flip[g as usize] {
-                    None => {
-                        flip[g as usize] = Some(wanted);
-                        queue.push_back(g as usize);
-                    }
-                    Some(have) if have != wanted => {
-                        let c = facet_component[f] as usize;
-                        if result[c].is_some() {
-                            result[c] = Some(false);
-                        }
-                    }
-                    Some(_) => {}
-                }
-            }
-        }
-    }
     result
+}
+
+/// Union–find whose elements carry a parity relative to their root.
+struct ParitySets {
+    parent: Vec<u32>,
+    parity: Vec<bool>,
+}
+
+impl ParitySets {
+    fn new(n: usize) -> Self {
+        ParitySets {
+            parent: (0..n as u32).collect(),
+            parity: vec![false; n],
+        }
+    }
+
+    /// Root of `i` and the parity of `i` relative to it (with path compression).
+    fn find(&mut self, i: u32) -> (u32, bool) {
+        let (mut root, mut total) = (i, false);
+        while self.parent[root as usize] != root {
+            total ^= self.parity[root as usize];
+            root = self.parent[root as usize];
+        }
+        // Second pass: point the path at the root with each node's parity to the root.
+        let (mut x, mut acc) = (i, total);
+        while self.parent[x as usize] != root && x != root {
+            let (next, old) = (self.parent[x as usize], self.parity[x as usize]);
+            self.parent[x as usize] = root;
+            self.parity[x as usize] = acc;
+            acc ^= old;
+            x = next;
+        }
+        (root, total)
+    }
+
+    /// Records that `a` and `b` differ in parity (`differ`) or agree; false on a contradiction.
+    fn union(&mut self, a: u32, b: u32, differ: bool) -> bool {
+        let ((ra, pa), (rb, pb)) = (self.find(a), self.find(b));
+        if ra == rb {
+            return (pa ^ pb) == differ;
+        }
+        self.parent[rb as usize] = ra;
+        self.parity[rb as usize] = pa ^ pb ^ differ;
+        true
+    }
 }
 
 #[cfg(test)]
@@ -305,6 +310,17 @@ mod tests {
         assert_eq!(s.component_orientable, vec![Some(false)]);
         assert_eq!(s.boundary_loop_count, 1);
         assert!(s.non_manifold_vertices.is_empty());
+    }
+
+    #[test]
+    fn parity_sets_find_contradictions() {
+        let mut p = ParitySets::new(4);
+        assert!(p.union(0, 1, true));
+        assert!(p.union(1, 2, true));
+        assert!(p.union(0, 2, false));
+        assert!(!p.union(2, 0, true));
+        assert!(p.union(3, 0, true));
+        assert_eq!(p.find(3).1 ^ p.find(2).1, true);
     }
 
     #[test]
