@@ -3,7 +3,11 @@ use std::time::Instant;
 use surfkit::shapes::grid_torus;
 use surfkit::topology::*;
 fn main() {
-    let mesh = grid_torus(1000, 500, true);
+    let scale: u32 = std::env::var("SCALE")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1);
+    let mesh = grid_torus(1000 * scale, 500 * scale, true);
     let t = Instant::now();
     let mut c = ModelCompanion::with_capacity(
         mesh.vertex_count(),

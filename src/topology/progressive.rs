@@ -5,6 +5,9 @@
 
 use super::registry::{EatRegistry, FacetRegistration};
 use super::statistics::EatStatistics;
+use crate::error::Result;
+use crate::halfedge::{self, FaceStatus, OpenMeshHalfEdge};
+use crate::mesh::PolygonMesh;
 
 /// A facet registered since the last verified point, with its counters as they stand.
 #[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
@@ -32,12 +35,22 @@ pub struct Checkpoint {
 }
 
 /// A registry fed facet by facet, as a modelling program's companion would, with test
-/// points.
-#[derive(Debug, Default, Clone)]
+/// points; optionally mirrored into an OpenMesh half-edge mesh for location queries.
+#[derive(Default)]
 pub struct ModelCompanion {
     registry: EatRegistry,
     input_ids: Vec<u32>,
     last_verified: usize,
+    mirror: Option<HalfEdgeMirror>,
+}
+
+/// The OpenMesh half-edge mesh that follows the registry: facets are handed over in one
+/// batched call when a location query needs them, not one call per facet.
+struct HalfEdgeMirror {
+    mesh: OpenMeshHalfEdge,
+    mirrored: usize,
+    status: Vec<FaceStatus>,
+    messages: String,
 }
 
 impl ModelCompanion {
@@ -54,12 +67,65 @@ impl ModelCompanion {
         self.registry.register_facet(corners)
     }
 
+    /// A companion whose accepted facets are mirrored into an OpenMesh half-edge mesh over
+    /// `positions` (the modelling program's original vertices V₀, ids by position).
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidInput`] for a non-finite coordinate; [`crate::Error::Ffi`].
+    pub fn with_halfedge(positions: &[[f64; 3]]) -> Result<Self> {
+        let vertices = PolygonMesh {
+            positions: positions.to_vec(),
+            ..Default::default()
+        };
+        let built = halfedge::build(&vertices)?;
+        Ok(ModelCompanion {
+            registry: EatRegistry::new(),
+            mirror: Some(HalfEdgeMirror {
+                mesh: built.mesh,
+                mirrored: 0,
+                status: Vec::new(),
+                messages: String::new(),
+            }),
+            ..Default::default()
+        })
+    }
+
+    /// The OpenMesh half-edge mesh of the accepted facets registered so far (None without
+    /// [`with_halfedge`](Self::with_halfedge)), with what happened to each facet.
+    ///
+    /// # Errors
+    /// [`crate::Error::Ffi`] when OpenMesh fails (a corner beyond the vertices given).
+    pub fn halfedge(&mut self) -> Result<Option<(&OpenMeshHalfEdge, &[FaceStatus], &str)>> {
+        let Some(mirror) = self.mirror.as_mut() else {
+            return Ok(None);
+        };
+        let count = self.registry.facet_count();
+        if mirror.mirrored < count {
+            let (offsets, corners) = self.registry.facet_arrays();
+            let base = offsets[mirror.mirrored];
+            let rebased: Vec<u32> = offsets[mirror.mirrored..=count]
+                .iter()
+                .map(|o| o - base)
+                .collect();
+            let (status, said) = mirror.mesh.add_faces(
+                &rebased,
+                &corners[base as usize..offsets[count] as usize],
+                mirror.mirrored as u32,
+            )?;
+            mirror.status.extend(status);
+            mirror.messages.push_str(&said);
+            mirror.mirrored = count;
+        }
+        Ok(Some((&mirror.mesh, &mirror.status, &mirror.messages)))
+    }
+
     /// A companion with room for about `vertices`, `facets` and `corners`.
     pub fn with_capacity(vertices: usize, facets: usize, corners: usize) -> Self {
         ModelCompanion {
             registry: EatRegistry::with_capacity(vertices, facets, corners),
             input_ids: Vec::with_capacity(facets),
             last_verified: 0,
+            mirror: None,
         }
     }
 
@@ -157,5 +223,39 @@ mod tests {
         let third = c.checkpoint(2);
         assert!(third.verified);
         assert_eq!(third.statistics.facets, 4);
+    }
+
+    #[test]
+    fn the_mirror_follows_the_registry_in_batches() {
+        use crate::halfedge::HalfEdgeTopology;
+        let positions = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+        let mut c = ModelCompanion::with_halfedge(&positions).unwrap();
+        c.register_facet(&[0, 1, 2], 0);
+        c.register_facet(&[0, 3, 1], 1);
+        {
+            let (mesh, status, _) = c.halfedge().unwrap().unwrap();
+            assert_eq!(mesh.face_count(), 2);
+            assert_eq!(mesh.boundary_loops().unwrap().len(), 1);
+            assert_eq!(status, &[FaceStatus::Added, FaceStatus::Added]);
+        }
+        c.register_facet(&[1, 3, 2], 2);
+        c.register_facet(&[0, 2, 3], 3);
+        c.register_facet(&[0, 1, 2], 4); // the first facet again: OpenMesh refuses it
+        let (mesh, status, said) = c.halfedge().unwrap().unwrap();
+        assert_eq!(mesh.face_count(), 4);
+        assert_eq!(mesh.boundary_loops().unwrap().len(), 0);
+        // Every vertex of the closed tetrahedron is interior: OpenMesh names the vertex.
+        assert_eq!(status[4], FaceStatus::ComplexVertex);
+        assert!(said.contains("face 4"));
+        assert_eq!(
+            c.statistics().facets,
+            5,
+            "the registry counts the refused facet"
+        );
     }
 }
