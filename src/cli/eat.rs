@@ -102,7 +102,7 @@ fn fail_kinds(names: &[String]) -> Result<Vec<FlawKind>> {
 
 pub fn run(args: &EatArgs) -> Result<ExitCode> {
     let fail_on = fail_kinds(&args.fail_on)?;
-    if !(args.weld_tolerance >= 0.0) {
+    if args.weld_tolerance.is_nan() || args.weld_tolerance < 0.0 {
         return Err(Error::InvalidInput(format!(
             "--weld-tolerance {} must be 0 or more",
             args.weld_tolerance

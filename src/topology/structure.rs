@@ -117,13 +117,13 @@ impl Structure {
         let mut facet_component = vec![NONE; facet_count];
         let mut label = vec![NONE; facet_count];
         let mut component_count = 0;
-        for f in 0..facet_count {
+        for (f, component) in facet_component.iter_mut().enumerate() {
             let r = facet_sets.find(f as u32) as usize;
             if label[r] == NONE {
                 label[r] = component_count;
                 component_count += 1;
             }
-            facet_component[f] = label[r];
+            *component = label[r];
         }
 
         // Fans per vertex: count distinct corner roots.
@@ -320,7 +320,7 @@ mod tests {
         assert!(p.union(0, 2, false));
         assert!(!p.union(2, 0, true));
         assert!(p.union(3, 0, true));
-        assert_eq!(p.find(3).1 ^ p.find(2).1, true);
+        assert!(p.find(3).1 ^ p.find(2).1);
     }
 
     #[test]
