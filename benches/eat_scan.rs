@@ -2,7 +2,7 @@
 //! 4M-triangle meshes, next to pymeshlab's `get_topological_measures()` on the same mesh
 //! in memory, in one run. File loading is excluded on both sides.
 //!
-//! `cargo bench --bench eat_scan` (pymeshlab from `scripts/setup-bench.sh`).
+//! `cargo bench --bench eat_scan` (pymeshlab from the .venv of `scripts/setup.sh`).
 
 mod support;
 

@@ -1,7 +1,7 @@
 //! Loading a generated 1M-triangle mesh (binary PLY and OBJ): surfkit's readers next to
 //! OpenMesh's own reader and trimesh (`trimesh.load(..., process=False)`), in one run.
 //!
-//! `cargo bench --bench mesh_load` (trimesh from `scripts/setup-bench.sh`, which sets
+//! `cargo bench --bench mesh_load` (trimesh from `scripts/setup.sh`, which sets
 //! `SURFKIT_PYTHON`; without it the trimesh column says so). Criterion times surfkit and
 //! OpenMesh; the closing table gives medians of repeated loads for all three and ratios.
 

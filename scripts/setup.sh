@@ -3,11 +3,15 @@
 #   bash scripts/setup.sh cargo test --release
 # Installs, only when missing: a C++ compiler, libclang (for bindgen), OpenMesh
 # (libopenmesh-dev), OpenSubdiv (libosd-dev), CGAL headers (libcgal-dev, cross-checks),
-# and a Rust toolchain (rustup) when cargo is not on PATH.
+# a Rust toolchain (rustup) when cargo is not on PATH, and the Python peers the
+# cross-checks and benches compare with (pymeshlab, trimesh, numpy) in .venv, which the
+# command finds through SURFKIT_PYTHON.
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
+cd "$(dirname "$0")/.."
 
-packages=(build-essential pkg-config libclang-dev libopenmesh-dev libosd-dev libcgal-dev ca-certificates curl)
+packages=(build-essential pkg-config libclang-dev libopenmesh-dev libosd-dev libcgal-dev
+          python3 python3-venv python3-pip ca-certificates curl)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -28,7 +32,13 @@ if ! command -v cargo >/dev/null 2>&1; then
   fi
 fi
 
+if [ ! -x .venv/bin/python ] || ! .venv/bin/python -c 'import pymeshlab, trimesh, numpy' >/dev/null 2>&1; then
+  echo "surfkit setup: installing pymeshlab, trimesh and numpy into .venv" >&2
+  /usr/bin/python3 -m venv .venv 2>/dev/null || python3 -m venv .venv
+  .venv/bin/python -m pip install -q --disable-pip-version-check pymeshlab trimesh numpy
+fi
+export SURFKIT_PYTHON="$PWD/.venv/bin/python"
+
 if [ $# -gt 0 ]; then
-  cd "$(dirname "$0")/.."
   exec "$@"
 fi

@@ -1,5 +1,5 @@
 //! What the benches share: timing by median of repeats, the generated-data folder, and the
-//! Python peers (trimesh, pymeshlab) run in the same run from `scripts/setup-bench.sh`'s venv.
+//! Python peers (trimesh, pymeshlab) run in the same run from the .venv `scripts/setup.sh` makes.
 
 #![allow(dead_code)]
 
@@ -37,7 +37,7 @@ pub fn python_peer(script: &str, args: &[String]) -> Result<serde_json::Value, S
         .arg(root.join("benches/peers").join(script))
         .args(args)
         .output()
-        .map_err(|e| format!("{python}: {e} (run scripts/setup-bench.sh)"))?;
+        .map_err(|e| format!("{python}: {e} (run scripts/setup.sh)"))?;
     if !out.status.success() {
         return Err(String::from_utf8_lossy(&out.stderr)
             .lines()
