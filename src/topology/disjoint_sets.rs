@@ -22,6 +22,15 @@ impl DisjointSets {
         i
     }
 
+    /// The root of every element, reusing the parent array.
+    pub fn into_roots(mut self) -> Vec<u32> {
+        for i in 0..self.parent.len() as u32 {
+            let r = self.find(i);
+            self.parent[i as usize] = r;
+        }
+        self.parent
+    }
+
     /// Joins the sets of `a` and `b` (the smaller root becomes the root).
     pub fn union(&mut self, a: u32, b: u32) {
         let (ra, rb) = (self.find(a), self.find(b));

@@ -46,7 +46,7 @@ pub fn boundary_walks(registry: &EatRegistry, structure: &Structure) -> Vec<Vec<
         if item.ec != 1 {
             continue;
         }
-        let side = structure.sides_of(e)[0];
+        let side = structure.first_side(e);
         let (ku, kw) = (side.corner, next_corner(side.corner));
         let key = (corners[kw as usize], structure.corner_fan[kw as usize]);
         // Value: the half-edge's end vertex and the fan at that end.
@@ -83,16 +83,17 @@ pub fn boundary_walks(registry: &EatRegistry, structure: &Structure) -> Vec<Vec<
 
 /// Median edge length of the registered edges (0 for none).
 pub fn median_edge_length(registry: &EatRegistry, positions: &[[f64; 3]]) -> f64 {
-    let mut lengths: Vec<f64> = registry
+    // f32 halves the memory of this 1-per-edge array; a median needs no more precision.
+    let mut lengths: Vec<f32> = registry
         .edges()
         .iter()
-        .map(|e| distance(positions[e.a as usize], positions[e.b as usize]))
+        .map(|e| distance(positions[e.a as usize], positions[e.b as usize]) as f32)
         .collect();
     if lengths.is_empty() {
         return 0.0;
     }
     let mid = lengths.len() / 2;
-    *lengths.select_nth_unstable_by(mid, f64::total_cmp).1
+    f64::from(*lengths.select_nth_unstable_by(mid, f32::total_cmp).1)
 }
 
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -237,21 +238,21 @@ pub fn locate(
     for cycle in boundary_walks(registry, structure) {
         let component = cycle.first().and_then(|&v| {
             let e = registry.edge_slot(v, *cycle.get(1).unwrap_or(&v))?;
-            Some(structure.facet_component[structure.sides_of(e as usize)[0].facet as usize])
+            Some(structure.facet_component[structure.first_side(e as usize).facet as usize])
         });
         flaws.push(loop_flaw(cycle, positions, median, options, component));
     }
 
     for (e, item) in registry.edges().iter().enumerate() {
-        let sides = structure.sides_of(e);
+        let first = structure.first_side(e);
         if item.ec > 2 {
-            let faces: Vec<u32> = sides.iter().map(|s| facet_id(s.facet)).collect();
+            let faces: Vec<u32> = structure.sides_of(e).map(|s| facet_id(s.facet)).collect();
             flaws.push(Flaw {
                 kind: FlawKind::NonManifoldEdge,
                 vertices: vec![item.a, item.b],
                 position: centroid([pos(item.a), pos(item.b)].into_iter()),
                 shape: None,
-                component: Some(structure.facet_component[sides[0].facet as usize]),
+                component: Some(structure.facet_component[first.facet as usize]),
                 description: format!("edge {{{}, {}}} has {} facet sides (ec = {})", item.a, item.b, item.ec, item.ec),
                 suggested_fix: format!(
                     "keep two of the facets {faces:?} on this edge; give the others their own copies of vertices {} and {}, or delete duplicates",
@@ -260,13 +261,13 @@ pub fn locate(
                 faces,
             });
         } else if item.inconsistent() {
-            let faces: Vec<u32> = sides.iter().map(|s| facet_id(s.facet)).collect();
+            let faces: Vec<u32> = structure.sides_of(e).map(|s| facet_id(s.facet)).collect();
             flaws.push(Flaw {
                 kind: FlawKind::InconsistentOrientation,
                 vertices: vec![item.a, item.b],
                 position: centroid([pos(item.a), pos(item.b)].into_iter()),
                 shape: None,
-                component: Some(structure.facet_component[sides[0].facet as usize]),
+                component: Some(structure.facet_component[first.facet as usize]),
                 description: format!(
                     "facets {faces:?} both run edge {{{}, {}}} the same way",
                     item.a, item.b

@@ -261,7 +261,7 @@ fn component_topology(
         out[c as usize].facets += 1;
     }
     for (e, item) in registry.edges().iter().enumerate() {
-        let c = structure.facet_component[structure.sides_of(e)[0].facet as usize] as usize;
+        let c = structure.facet_component[structure.first_side(e).facet as usize] as usize;
         out[c].edges += 1;
         if item.ec > 2 {
             out[c].manifold = false;

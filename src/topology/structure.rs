@@ -22,9 +22,11 @@ pub struct EdgeSide {
 /// Everything the flaw locator and the statistics need, computed once.
 #[derive(Debug, Clone)]
 pub struct Structure {
-    /// Edge sides grouped by edge: sides of edge `e` are `sides[side_offsets[e]..side_offsets[e+1]]`.
+    /// Edge sides grouped by edge: sides of edge `e` are `sides[side_offsets[e]..side_offsets[e+1]]`,
+    /// each packed as its corner with the `forward` flag in the top bit (4 bytes a side:
+    /// the structure of a 4M-triangle mesh is touched once per scan, memory is time).
     pub side_offsets: Vec<u32>,
-    pub sides: Vec<EdgeSide>,
+    sides: Vec<u32>,
     /// Facet of each corner.
     pub corner_facet: Vec<u32>,
     /// The fan (a representative corner) each corner's facet belongs to at its vertex.
@@ -43,9 +45,31 @@ pub struct Structure {
     pub component_orientable: Vec<Option<bool>>,
 }
 
+const FORWARD: u32 = 1 << 31;
+
+fn unpack(packed: u32, corner_facet: &[u32]) -> EdgeSide {
+    let corner = packed & !FORWARD;
+    EdgeSide {
+        facet: corner_facet[corner as usize],
+        corner,
+        forward: packed & FORWARD != 0,
+    }
+}
+
 impl Structure {
-    pub fn sides_of(&self, edge: usize) -> &[EdgeSide] {
-        &self.sides[self.side_offsets[edge] as usize..self.side_offsets[edge + 1] as usize]
+    /// The facet sides of edge `edge`.
+    pub fn sides_of(&self, edge: usize) -> impl ExactSizeIterator<Item = EdgeSide> + '_ {
+        self.sides[self.side_offsets[edge] as usize..self.side_offsets[edge + 1] as usize]
+            .iter()
+            .map(|&p| unpack(p, &self.corner_facet))
+    }
+
+    /// The first facet side of edge `edge` (every registered edge has one).
+    pub fn first_side(&self, edge: usize) -> EdgeSide {
+        unpack(
+            self.sides[self.side_offsets[edge] as usize],
+            &self.corner_facet,
+        )
     }
 
     /// Computes the structure of everything registered so far. O(corners · α).
@@ -66,27 +90,22 @@ impl Structure {
         for e in edges {
             side_offsets.push(side_offsets.last().unwrap() + e.ec);
         }
+        assert!(corners.len() < FORWARD as usize, "more than 2^31 corners");
         let mut fill = side_offsets.clone();
-        let mut sides = vec![
-            EdgeSide {
-                facet: 0,
-                corner: 0,
-                forward: false
-            };
-            *side_offsets.last().unwrap() as usize
-        ];
+        let mut sides = vec![0u32; *side_offsets.last().unwrap() as usize];
         for (k, &e) in corner_edge.iter().enumerate() {
             if e == NONE {
                 continue;
             }
-            let v = corners[k];
-            sides[fill[e as usize] as usize] = EdgeSide {
-                facet: corner_facet[k],
-                corner: k as u32,
-                forward: v == edges[e as usize].a,
+            let forward = if corners[k] == edges[e as usize].a {
+                FORWARD
+            } else {
+                0
             };
+            sides[fill[e as usize] as usize] = k as u32 | forward;
             fill[e as usize] += 1;
         }
+        drop(fill);
 
         // Components: facets joined through shared edges.
         let mut facet_sets = DisjointSets::new(facet_count);
@@ -102,11 +121,14 @@ impl Structure {
             }
         };
         for e in 0..edges.len() {
-            let s = &sides[side_offsets[e] as usize..side_offsets[e + 1] as usize];
-            let Some(first) = s.first() else { continue };
+            let packed = &sides[side_offsets[e] as usize..side_offsets[e + 1] as usize];
+            let Some(&first) = packed.first() else {
+                continue;
+            };
+            let first = unpack(first, &corner_facet);
             let (fa, fb) = (first.corner, next_corner(first.corner));
             let (first_a, first_b) = if first.forward { (fa, fb) } else { (fb, fa) };
-            for side in &s[1..] {
+            for side in packed[1..].iter().map(|&p| unpack(p, &corner_facet)) {
                 facet_sets.union(first.facet, side.facet);
                 let (ka, kb) = (side.corner, next_corner(side.corner));
                 let (at_a, at_b) = if side.forward { (ka, kb) } else { (kb, ka) };
@@ -128,9 +150,7 @@ impl Structure {
 
         // Fans per vertex: count distinct corner roots.
         let max_vertex = corners.iter().copied().max().map_or(0, |m| m as usize + 1);
-        let corner_fan: Vec<u32> = (0..corners.len() as u32)
-            .map(|k| corner_sets.find(k))
-            .collect();
+        let corner_fan = corner_sets.into_roots();
         let mut first_root = vec![NONE; max_vertex];
         let mut fan_roots: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
         for (k, &v) in corners.iter().enumerate() {
@@ -178,6 +198,7 @@ impl Structure {
             component_count,
             &side_offsets,
             &sides,
+            &corner_facet,
         );
 
         Structure {
@@ -205,14 +226,27 @@ fn orientability(
     facet_component: &[u32],
     component_count: u32,
     side_offsets: &[u32],
-    sides: &[EdgeSide],
+    sides: &[u32],
+    corner_facet: &[u32],
 ) -> Vec<Option<bool>> {
     let mut result = vec![Some(true); component_count as usize];
     let mut flips = ParitySets::new(facet_count);
     for e in 0..side_offsets.len() - 1 {
-        let s = &sides[side_offsets[e] as usize..side_offsets[e + 1] as usize];
-        match s.len() {
-            2 => {
+        let packed = &sides[side_offsets[e] as usize..side_offsets[e + 1] as usize];
+        let s: [EdgeSide; 2] = match packed.len() {
+            2 => [
+                unpack(packed[0], corner_facet),
+                unpack(packed[1], corner_facet),
+            ],
+            n if n > 2 => {
+                let c = facet_component[unpack(packed[0], corner_facet).facet as usize];
+                result[c as usize] = None;
+                continue;
+            }
+            _ => continue,
+        };
+        {
+            {
                 let differ = s[0].forward == s[1].forward;
                 if !flips.union(s[0].facet, s[1].facet, differ) {
                     let c = facet_component[s[0].facet as usize] as usize;
@@ -221,8 +255,6 @@ fn orientability(
                     }
                 }
             }
-            n if n > 2 => result[facet_component[s[0].facet as usize] as usize] = None,
-            _ => {}
         }
     }
     result
