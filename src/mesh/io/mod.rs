@@ -24,10 +24,21 @@ pub use ply::PlyEncoding;
 
 /// The mesh file formats surfkit reads and writes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "UPPERCASE")]
 pub enum Format {
     Obj,
     Ply,
     Off,
+}
+
+impl std::fmt::Display for Format {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Format::Obj => "OBJ",
+            Format::Ply => "PLY",
+            Format::Off => "OFF",
+        })
+    }
 }
 
 impl Format {
