@@ -9,6 +9,7 @@
 pub mod error;
 mod ffi;
 pub mod mesh;
+pub mod subdiv;
 pub mod tolerance;
 
 pub use error::{Error, Result};
