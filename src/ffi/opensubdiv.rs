@@ -250,10 +250,6 @@ impl PatchTable {
         Ok(PatchTable { handle, counts })
     }
 
-    pub fn num_patches(&self) -> usize {
-        self.counts.num_patches as usize
-    }
-
     /// Copies the table's arrays out in one call.
     pub fn data(&self, num_faces: usize) -> Result<PatchData> {
         let c = &self.counts;

@@ -11,14 +11,20 @@
 //! OpenSubdiv's rules. The boundary rule defaults to edges-and-corners, not OpenSubdiv's
 //! own default (none), which leaves boundary faces without a limit surface.
 
+mod bspline;
+mod curvature;
 mod options;
+mod patches;
 mod topology;
 mod uniform;
 
+pub use bspline::{cubic_basis, eval_patch, Derivatives};
+pub use curvature::{curvature, normal, Curvature};
 pub use options::{
     BoundaryInterpolation, Corner, Crease, CreasingMethod, FaceVaryingInterpolation, SubdivOptions,
     TriangleSubdivision,
 };
+pub use patches::{limit_surface, Patch, PatchOptions, PatchSurface, SurfacePoint};
 pub use uniform::{refine_uniform, MAX_LEVELS};
 
 /// OpenSubdiv's version as `(major, minor, patch)`.
