@@ -167,8 +167,8 @@ fn patch_weights_form_the_patch_control_points() {
             for k in 0..16 {
                 let mut q = [0.0; 3];
                 for &(v, wt) in &w[k] {
-                    for c in 0..3 {
-                        q[c] += wt * mesh.positions[v as usize][c];
+                    for (qc, pc) in q.iter_mut().zip(mesh.positions[v as usize]) {
+                        *qc += wt * pc;
                     }
                 }
                 assert_vec_near(q, pts[k], ROUND_OFF, &format!("{name} patch {p} point {k}"));

@@ -39,7 +39,7 @@ pub fn normal(d: &Derivatives) -> Result<[f64; 3]> {
     let n = cross(d.du, d.dv);
     let len = dot(n, n).sqrt();
     let scale = dot(d.du, d.du).sqrt() * dot(d.dv, d.dv).sqrt();
-    if !(len > f64::EPSILON * scale) || !len.is_finite() {
+    if len.is_nan() || len <= f64::EPSILON * scale || !len.is_finite() {
         return Err(Error::Topology(
             "the limit surface is degenerate here (parallel tangents): no normal".into(),
         ));
