@@ -10,8 +10,8 @@ use surfkit::assert_near;
 use surfkit::mesh::io::read;
 use surfkit::mesh::PolygonMesh;
 use surfkit::subdiv::{
-    curvature, eval_patch, limit_surface, BoundaryInterpolation, Derivatives, PatchOptions,
-    PatchSurface, SubdivOptions, SurfacePoint,
+    curvature, eval_patch, limit_surface, sample_limit, BoundaryInterpolation, Derivatives,
+    PatchOptions, PatchSurface, SampleOptions, SubdivOptions, SurfacePoint,
 };
 use surfkit::tolerance::{FINITE_DIFFERENCE, ROUND_OFF};
 
@@ -334,18 +334,7 @@ fn curvature_of_a_parabolic_cylinder() {
     // the boundary the limit surface is z = x² + 1/3 exactly, with K = 0,
     // H = 1 / (1 + 4x²)^{3/2} and k1 = 2 H for the normal (−2x, 0, 1) / √(1 + 4x²).
     let n = 8u32;
-    let mut positions = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            let x = i as f64 - 4.0;
-            positions.push([x, j as f64, x * x]);
-        }
-    }
-    let id = |i: u32, j: u32| j * (n + 1) + i;
-    let faces: Vec<[u32; 4]> = (0..n)
-        .flat_map(|j| (0..n).map(move |i| [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]))
-        .collect();
-    let mesh = PolygonMesh::from_polygons(positions, &faces);
+    let mesh = parabolic_grid(n);
     let s = surface(&mesh);
     for (i, j, u, v) in [(3u32, 3u32, 0.3, 0.6), (5, 2, 0.9, 0.1), (2, 5, 0.5, 0.5)] {
         let f = j * n + i;
@@ -365,4 +354,45 @@ fn curvature_of_a_parabolic_cylinder() {
         assert_near!(c.k1, 2.0 / w.powi(3), ROUND_OFF);
         assert_near!(c.k2, 0.0, ROUND_OFF);
     }
+}
+
+/// Control points (i − 4, j, (i − 4)²) on an n × n grid of quads.
+fn parabolic_grid(n: u32) -> PolygonMesh {
+    let mut positions = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let x = i as f64 - 4.0;
+            positions.push([x, j as f64, x * x]);
+        }
+    }
+    let id = |i: u32, j: u32| j * (n + 1) + i;
+    let faces: Vec<[u32; 4]> = (0..n)
+        .flat_map(|j| (0..n).map(move |i| [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]))
+        .collect();
+    PolygonMesh::from_polygons(positions, &faces)
+}
+
+#[test]
+fn limit_samples_carry_mean_curvature_as_quality() {
+    let mesh = parabolic_grid(8);
+    let s = surface(&mesh);
+    let k = 3;
+    let samples = sample_limit(&s, &SampleOptions { samples: k }).unwrap();
+    assert_eq!(samples.face_count(), mesh.face_count() * (k * k) as usize);
+    assert_eq!(
+        samples.vertex_count(),
+        mesh.face_count() * ((k + 1) * (k + 1)) as usize
+    );
+    let quality = samples.quality.as_ref().unwrap();
+    let mut interior = 0;
+    for (p, &h) in samples.positions.iter().zip(quality) {
+        // Faces one ring away from the boundary lie on z = x² + 1/3 exactly.
+        if (-3.0..=3.0).contains(&p[0]) && (1.0..=7.0).contains(&p[1]) {
+            interior += 1;
+            assert_near!(p[2], p[0] * p[0] + 1.0 / 3.0, ROUND_OFF);
+            assert_near!(h, (1.0 + 4.0 * p[0] * p[0]).powf(-1.5), ROUND_OFF);
+        }
+    }
+    assert!(interior > 0);
+    assert!(sample_limit(&s, &SampleOptions { samples: 0 }).is_err());
 }

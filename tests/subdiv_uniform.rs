@@ -4,9 +4,12 @@
 #[path = "cgal/mod.rs"]
 mod cgal;
 
+use surfkit::assert_near;
 use surfkit::mesh::io::read;
-use surfkit::mesh::PolygonMesh;
-use surfkit::subdiv::{refine_uniform, BoundaryInterpolation, SubdivOptions};
+use surfkit::mesh::{CornerUvs, PolygonMesh};
+use surfkit::subdiv::{
+    refine_uniform, BoundaryInterpolation, FaceVaryingInterpolation, SubdivOptions,
+};
 use surfkit::tolerance::ROUND_OFF;
 
 /// Refines with OpenSubdiv and CGAL and checks: same vertex count, every CGAL vertex has an
@@ -337,5 +340,37 @@ fn infinitely_sharp_crease_refines_as_a_curve() {
                 .any(|q| (0..3).all(|k| (q[k] - mid[k]).abs() <= ROUND_OFF)),
             "crease edge point is not the midpoint"
         );
+    }
+}
+
+#[test]
+fn smooth_uvs_without_seams_refine_like_positions() {
+    // With UVs equal to (x, y) of each vertex and no seam, a smooth face-varying rule must
+    // produce the refined positions' (x, y): the same Catmull–Clark masks on the same data.
+    // Closed surface, so no boundary rule is involved.
+    let mesh = read(&cgal::fixture("quadknot.obj")).unwrap();
+    let mut with_uv = mesh.clone();
+    with_uv.uvs = Some(CornerUvs {
+        coords: mesh.positions.iter().map(|p| [p[0], p[1]]).collect(),
+        corner_indices: mesh.face_indices.clone(),
+    });
+    let scale = cgal::diagonal(&mesh);
+    for rule in [
+        FaceVaryingInterpolation::None,
+        FaceVaryingInterpolation::CornersOnly,
+        FaceVaryingInterpolation::Boundaries,
+    ] {
+        let options = SubdivOptions {
+            face_varying: rule,
+            ..Default::default()
+        };
+        let r = refine_uniform(&with_uv, 2, &options).unwrap();
+        let uv = r.uvs.as_ref().unwrap();
+        for (c, &v) in r.face_indices.iter().enumerate() {
+            let t = uv.coords[uv.corner_indices[c] as usize];
+            let p = r.positions[v as usize];
+            assert_near!(t[0] / scale, p[0] / scale, ROUND_OFF, "{rule:?}");
+            assert_near!(t[1] / scale, p[1] / scale, ROUND_OFF, "{rule:?}");
+        }
     }
 }
