@@ -377,7 +377,9 @@ fn limit_samples_carry_mean_curvature_as_quality() {
     let mesh = parabolic_grid(8);
     let s = surface(&mesh);
     let k = 3;
-    let samples = sample_limit(&s, &SampleOptions { samples: k }).unwrap();
+    let sampled = sample_limit(&s, &SampleOptions { samples: k }).unwrap();
+    assert!(sampled.degenerate.is_empty());
+    let samples = sampled.mesh;
     assert_eq!(samples.face_count(), mesh.face_count() * (k * k) as usize);
     assert_eq!(
         samples.vertex_count(),

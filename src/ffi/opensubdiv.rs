@@ -77,7 +77,7 @@ pub struct Topology<'a> {
 
 impl Topology<'_> {
     fn raw(&self) -> Result<raw::surfkit_osd_topology> {
-        let ok = self.face_vertices.len() == self.verts_per_face.iter().map(|&n| n as usize).sum()
+        let ok = self.face_vertices.len() == self.verts_per_face.iter().map(|&n| n as usize).sum::<usize>()
             && self.crease_vertex_pairs.len() == 2 * self.crease_sharpness.len()
             && self.corner_vertices.len() == self.corner_sharpness.len()
             && (self.num_fvar_values == 0 || self.fvar_indices.len() == self.face_vertices.len());

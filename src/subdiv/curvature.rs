@@ -3,6 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::subdiv::Derivatives;
+use crate::tolerance::ROUND_OFF;
 
 /// Unit normal, mean, Gaussian and principal curvatures at a surface point.
 ///
@@ -32,18 +33,24 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 
 /// The unit normal `S_u × S_v / |S_u × S_v|`.
 ///
+/// A point is degenerate when the tangents are parallel or vanish relative to the
+/// surface's bending: `EG − F² ≤ ROUND_OFF · (|S_uu|² + 2 |S_uv|² + |S_vv|²)²` (both sides
+/// scale as length⁴ under any reparametrisation u → c u). This catches the limit points
+/// of valence-2 vertices, where both tangents vanish.
+///
 /// # Errors
-/// [`Error::Topology`] where the tangents are parallel (a degenerate point, e.g. where the
-/// control mesh folds), since no normal exists there.
+/// [`Error::Topology`] at a degenerate point, since no normal exists there.
 pub fn normal(d: &Derivatives) -> Result<[f64; 3]> {
     let n = cross(d.du, d.dv);
-    let len = dot(n, n).sqrt();
-    let scale = dot(d.du, d.du).sqrt() * dot(d.dv, d.dv).sqrt();
-    if len.is_nan() || len <= f64::EPSILON * scale || !len.is_finite() {
+    let det = dot(n, n);
+    let bend = dot(d.duu, d.duu) + 2.0 * dot(d.duv, d.duv) + dot(d.dvv, d.dvv);
+    if !det.is_finite() || det <= ROUND_OFF * bend * bend || det == 0.0 {
         return Err(Error::Topology(
-            "the limit surface is degenerate here (parallel tangents): no normal".into(),
+            "the limit surface is degenerate here (parallel or vanishing tangents): no normal"
+                .into(),
         ));
     }
+    let len = det.sqrt();
     Ok(n.map(|c| c / len))
 }
 

@@ -26,7 +26,7 @@ pub use options::{
     TriangleSubdivision,
 };
 pub use patches::{limit_surface, Patch, PatchOptions, PatchSurface, SurfacePoint};
-pub use sample::{sample_limit, SampleOptions, MAX_SAMPLES};
+pub use sample::{sample_limit, LimitSamples, SampleOptions, MAX_SAMPLES};
 pub use uniform::{refine_uniform, MAX_LEVELS};
 
 /// OpenSubdiv's version as `(major, minor, patch)`.

@@ -18,6 +18,18 @@ impl Default for SampleOptions {
     }
 }
 
+/// The sampled limit surface and where its curvature is undefined.
+#[derive(Debug, Clone)]
+pub struct LimitSamples {
+    /// One (K + 1) × (K + 1) grid of quads per ptex face; `quality` = mean curvature, UVs =
+    /// the ptex face's (u, v).
+    pub mesh: PolygonMesh,
+    /// Samples at degenerate points of the limit surface (vanishing or parallel tangents,
+    /// e.g. the limit point of a valence-2 vertex), where curvature does not exist: their
+    /// `quality` is the mean of their non-degenerate grid neighbours' (0 if none).
+    pub degenerate: Vec<u32>,
+}
+
 /// Largest accepted [`SampleOptions::samples`].
 pub const MAX_SAMPLES: u32 = 256;
 
@@ -26,11 +38,12 @@ pub const MAX_SAMPLES: u32 = 256;
 /// as `quality` and the ptex face's (u, v) as UVs. Faces are sampled independently (their
 /// border vertices are repeated), so the output is one grid per ptex face; faces without a
 /// limit surface (boundary faces under `BoundaryInterpolation::None`) are left out.
+/// Degenerate points are listed in [`LimitSamples::degenerate`], never a silent NaN.
 ///
 /// # Errors
-/// [`Error::InvalidInput`] unless `1 ≤ samples ≤ MAX_SAMPLES`; [`Error::Topology`] where the
-/// limit surface is degenerate (no normal, so no curvature); [`Error::Ffi`] from evaluation.
-pub fn sample_limit(surface: &PatchSurface, options: &SampleOptions) -> Result<PolygonMesh> {
+/// [`Error::InvalidInput`] unless `1 ≤ samples ≤ MAX_SAMPLES`; [`Error::Ffi`] from
+/// evaluation.
+pub fn sample_limit(surface: &PatchSurface, options: &SampleOptions) -> Result<LimitSamples> {
     let k = options.samples;
     if !(1..=MAX_SAMPLES).contains(&k) {
         return Err(Error::InvalidInput(format!(
@@ -41,6 +54,7 @@ pub fn sample_limit(surface: &PatchSurface, options: &SampleOptions) -> Result<P
     let mut mesh = PolygonMesh::default();
     let mut quality = Vec::new();
     let mut uvs = crate::mesh::CornerUvs::default();
+    let mut degenerate = Vec::new();
     for ptex in 0..surface.ptex_face_count() as u32 {
         let points: Vec<SurfacePoint> = (0..n * n)
             .map(|i| SurfacePoint {
@@ -53,13 +67,44 @@ pub fn sample_limit(surface: &PatchSurface, options: &SampleOptions) -> Result<P
             continue;
         }
         let base = mesh.positions.len() as u32;
-        for (p, d) in points.iter().zip(surface.evaluate(&points)?) {
-            let c = curvature(&d).map_err(|e| {
-                Error::Topology(format!("ptex face {ptex} at ({}, {}): {e}", p.u, p.v))
-            })?;
+        let first_degenerate = degenerate.len();
+        for (i, (p, d)) in points.iter().zip(surface.evaluate(&points)?).enumerate() {
+            match curvature(&d) {
+                Ok(c) => quality.push(c.mean),
+                Err(_) => {
+                    degenerate.push(base + i as u32);
+                    quality.push(0.0);
+                }
+            }
             mesh.positions.push(d.position);
-            quality.push(c.mean);
             uvs.coords.push([p.u, p.v]);
+        }
+        for &g in &degenerate[first_degenerate..] {
+            let local = (g - base) as usize;
+            let (i, j) = ((local % n) as i64, (local / n) as i64);
+            let mut sum = 0.0;
+            let mut count = 0;
+            for (di, dj) in [
+                (-1, 0),
+                (1, 0),
+                (0, -1),
+                (0, 1),
+                (-1, -1),
+                (1, 1),
+                (-1, 1),
+                (1, -1),
+            ] {
+                let (a, b) = (i + di, j + dj);
+                if a < 0 || b < 0 || a >= n as i64 || b >= n as i64 {
+                    continue;
+                }
+                let other = base + (b as usize * n + a as usize) as u32;
+                if !degenerate[first_degenerate..].contains(&other) {
+                    sum += quality[other as usize];
+                    count += 1;
+                }
+            }
+            quality[g as usize] = if count > 0 { sum / count as f64 } else { 0.0 };
         }
         let id = |i: usize, j: usize| base + (j * n + i) as u32;
         for j in 0..k as usize {
@@ -72,5 +117,5 @@ pub fn sample_limit(surface: &PatchSurface, options: &SampleOptions) -> Result<P
     }
     mesh.quality = Some(quality);
     mesh.uvs = Some(uvs);
-    Ok(mesh)
+    Ok(LimitSamples { mesh, degenerate })
 }
