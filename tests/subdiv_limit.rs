@@ -398,3 +398,66 @@ fn limit_samples_carry_mean_curvature_as_quality() {
     assert!(interior > 0);
     assert!(sample_limit(&s, &SampleOptions { samples: 0 }).is_err());
 }
+
+#[test]
+fn valence_two_vertices_are_degenerate_points_not_nans() {
+    // A cube whose top face is split into two quads through a new vertex 8 joined to 4 and
+    // 6 only: an interior vertex of valence 2, where the limit surface has vanishing
+    // tangents: no normal, no curvature.
+    let p = |x: f64, y: f64, z: f64| [x, y, z];
+    let mesh = PolygonMesh::from_polygons(
+        vec![
+            p(0.0, 0.0, 0.0),
+            p(1.0, 0.0, 0.0),
+            p(1.0, 1.0, 0.0),
+            p(0.0, 1.0, 0.0),
+            p(0.0, 0.0, 1.0),
+            p(1.0, 0.0, 1.0),
+            p(1.0, 1.0, 1.0),
+            p(0.0, 1.0, 1.0),
+            p(0.5, 0.5, 1.2),
+        ],
+        &[
+            [0u32, 3, 2, 1],
+            [0, 1, 5, 4],
+            [1, 2, 6, 5],
+            [2, 3, 7, 6],
+            [3, 0, 4, 7],
+            [4, 5, 6, 8],
+            [8, 6, 7, 4],
+        ],
+    );
+    let s = surface(&mesh);
+    // Vertex 8 is corner 3 of face 5: (u, v) = (0, 1) of its ptex face.
+    let at8 = s
+        .evaluate(&[SurfacePoint {
+            ptex_face: 5,
+            u: 0.0,
+            v: 1.0,
+        }])
+        .unwrap()[0];
+    assert!(matches!(curvature(&at8), Err(surfkit::Error::Topology(_))));
+    let inside = s
+        .evaluate(&[SurfacePoint {
+            ptex_face: 5,
+            u: 0.5,
+            v: 0.5,
+        }])
+        .unwrap()[0];
+    assert!(curvature(&inside).is_ok());
+    let sampled = sample_limit(&s, &SampleOptions { samples: 2 }).unwrap();
+    assert_eq!(
+        sampled.degenerate.len(),
+        2,
+        "vertex 8 once in each of its 2 faces"
+    );
+    for &g in &sampled.degenerate {
+        assert_vec_near(
+            sampled.mesh.positions[g as usize],
+            at8.position,
+            ROUND_OFF,
+            "degenerate sample",
+        );
+    }
+    assert!(sampled.mesh.quality.unwrap().iter().all(|q| q.is_finite()));
+}
