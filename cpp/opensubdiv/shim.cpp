@@ -166,88 +166,99 @@ struct Point {
 // ---- Uniform refinement --------------------------------------------------------------------
 
 struct surfkit_osd_uniform {
-  std::vector<double> positions;
-  std::vector<int> face_vertices;
-  std::vector<double> fvar_values;
-  std::vector<int> fvar_indices;
+  std::unique_ptr<Far::TopologyRefiner> refiner;
+  int levels = 0;
+  bool fvar = false;
 };
 
 extern "C" int surfkit_osd_uniform_create(const surfkit_osd_topology* topology, int levels,
-                                          const double* positions, const double* fvar_values,
                                           surfkit_osd_uniform** out,
                                           surfkit_osd_uniform_counts* counts, char** error) {
   return guarded(error, [&]() -> std::string {
     if (!out || !counts) return "null output pointer";
     *out = nullptr;
     if (levels < 1 || levels > 10) return "levels must be 1..=10";
-    if (!positions && topology && topology->num_vertices > 0) return "positions missing";
-    std::string why;
-    auto refiner = make_refiner(topology, why);
-    if (!refiner) return why;
-    const bool fvar = topology->num_fvar_values > 0;
-    if (fvar && !fvar_values) return "face-varying values missing";
-    refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
-
-    // Positions, level by level (PrimvarRefiner interpolates one level at a time).
-    Far::PrimvarRefinerReal<double> primvar(*refiner);
-    std::vector<Point<3>> src(refiner->GetLevel(0).GetNumVertices());
-    std::memcpy(src.data(), positions, sizeof(double) * 3 * src.size());
-    std::vector<Point<2>> fsrc;
-    if (fvar) {
-      fsrc.resize(refiner->GetLevel(0).GetNumFVarValues(0));
-      std::memcpy(fsrc.data(), fvar_values, sizeof(double) * 2 * fsrc.size());
-    }
-    for (int level = 1; level <= levels; ++level) {
-      std::vector<Point<3>> dst(refiner->GetLevel(level).GetNumVertices());
-      primvar.Interpolate(level, src, dst);
-      src.swap(dst);
-      if (fvar) {
-        std::vector<Point<2>> fdst(refiner->GetLevel(level).GetNumFVarValues(0));
-        primvar.InterpolateFaceVarying(level, fsrc, fdst, 0);
-        fsrc.swap(fdst);
-      }
-    }
-
     auto result = std::make_unique<surfkit_osd_uniform>();
-    const Far::TopologyLevel& last = refiner->GetLevel(levels);
-    result->positions.resize(3 * src.size());
-    std::memcpy(result->positions.data(), src.data(), sizeof(double) * result->positions.size());
-    const int nf = last.GetNumFaces();
-    result->face_vertices.reserve(4 * nf);
-    if (fvar) result->fvar_indices.reserve(4 * nf);
-    for (int f = 0; f < nf; ++f) {
-      Far::ConstIndexArray fv = last.GetFaceVertices(f);
-      if (fv.size() != 4) return "refined face is not a quad";
-      for (int k = 0; k < 4; ++k) result->face_vertices.push_back(fv[k]);
-      if (fvar) {
-        Far::ConstIndexArray fvv = last.GetFaceFVarValues(f, 0);
-        for (int k = 0; k < 4; ++k) result->fvar_indices.push_back(fvv[k]);
-      }
-    }
-    if (fvar) {
-      result->fvar_values.resize(2 * fsrc.size());
-      std::memcpy(result->fvar_values.data(), fsrc.data(),
-                  sizeof(double) * result->fvar_values.size());
-    }
-    counts->num_vertices = static_cast<int>(src.size());
-    counts->num_faces = nf;
-    counts->num_fvar_values = fvar ? static_cast<int>(fsrc.size()) : 0;
+    std::string why;
+    result->refiner = make_refiner(topology, why);
+    if (!result->refiner) return why;
+    result->levels = levels;
+    result->fvar = topology->num_fvar_values > 0;
+    result->refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+    const Far::TopologyLevel& last = result->refiner->GetLevel(levels);
+    counts->num_vertices = last.GetNumVertices();
+    counts->num_faces = last.GetNumFaces();
+    counts->num_fvar_values = result->fvar ? last.GetNumFVarValues(0) : 0;
     *out = result.release();
     return "";
   });
 }
 
-extern "C" int surfkit_osd_uniform_copy(const surfkit_osd_uniform* r, double* positions,
-                                        int* face_vertices, double* fvar_values,
-                                        int* fvar_indices, char** error) {
+namespace {
+
+// Interpolates `src` (level 0) through every level; the last level goes straight into
+// `out`, intermediate levels into two scratch buffers.
+template <int N, class Apply>
+void interpolate_levels(int levels, const Point<N>* src, Point<N>* out,
+                        const Far::TopologyRefiner& refiner, Apply&& apply) {
+  std::vector<Point<N>> a, b;
+  const Point<N>* from = src;
+  for (int level = 1; level <= levels; ++level) {
+    if (level == levels) {
+      apply(level, from, out);
+    } else {
+      std::vector<Point<N>>& to = (level % 2) ? a : b;
+      to.resize(refiner.GetLevel(level).GetNumVertices());
+      apply(level, from, to.data());
+      from = to.data();
+    }
+  }
+}
+
+}  // namespace
+
+extern "C" int surfkit_osd_uniform_copy(const surfkit_osd_uniform* r, const double* positions,
+                                        const double* fvar_values, double* out_positions,
+                                        int* out_face_vertices, double* out_fvar_values,
+                                        int* out_fvar_indices, char** error) {
   return guarded(error, [&]() -> std::string {
-    if (!r || !positions || !face_vertices) return "null pointer";
-    std::copy(r->positions.begin(), r->positions.end(), positions);
-    std::copy(r->face_vertices.begin(), r->face_vertices.end(), face_vertices);
-    if (!r->fvar_values.empty()) {
-      if (!fvar_values || !fvar_indices) return "null face-varying pointer";
-      std::copy(r->fvar_values.begin(), r->fvar_values.end(), fvar_values);
-      std::copy(r->fvar_indices.begin(), r->fvar_indices.end(), fvar_indices);
+    if (!r || !positions || !out_positions || !out_face_vertices) return "null pointer";
+    if (r->fvar && (!fvar_values || !out_fvar_values || !out_fvar_indices))
+      return "null face-varying pointer";
+    const Far::TopologyRefiner& refiner = *r->refiner;
+    Far::PrimvarRefinerReal<double> primvar(refiner);
+    interpolate_levels<3>(r->levels, reinterpret_cast<const Point<3>*>(positions),
+                          reinterpret_cast<Point<3>*>(out_positions), refiner,
+                          [&](int level, const Point<3>* from, Point<3>* to) {
+                            primvar.Interpolate(level, from, to);
+                          });
+    if (r->fvar) {
+      // Face-varying buffers are sized by the values of each level, not the vertices.
+      std::vector<Point<2>> a, b;
+      const Point<2>* from = reinterpret_cast<const Point<2>*>(fvar_values);
+      for (int level = 1; level <= r->levels; ++level) {
+        Point<2>* to;
+        if (level == r->levels) {
+          to = reinterpret_cast<Point<2>*>(out_fvar_values);
+        } else {
+          std::vector<Point<2>>& buf = (level % 2) ? a : b;
+          buf.resize(refiner.GetLevel(level).GetNumFVarValues(0));
+          to = buf.data();
+        }
+        primvar.InterpolateFaceVarying(level, from, to, 0);
+        from = to;
+      }
+    }
+    const Far::TopologyLevel& last = refiner.GetLevel(r->levels);
+    const int nf = last.GetNumFaces();
+    for (int f = 0; f < nf; ++f) {
+      Far::ConstIndexArray fv = last.GetFaceVertices(f);
+      if (fv.size() != 4) return "refined face is not a quad";
+      std::copy(fv.begin(), fv.end(), out_face_vertices + 4 * f);
+      if (r->fvar) {
+        Far::ConstIndexArray fvv = last.GetFaceFVarValues(f, 0);
+        std::copy(fvv.begin(), fvv.end(), out_fvar_indices + 4 * f);
+      }
     }
     return "";
   });

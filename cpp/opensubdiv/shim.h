@@ -56,20 +56,22 @@ typedef struct surfkit_osd_uniform_counts {
   int num_fvar_values; /* face-varying values of the last level (0 without a channel) */
 } surfkit_osd_uniform_counts;
 
-/* Refines uniformly `levels` times (1..=10) and interpolates positions (3 doubles per
- * vertex) and, when the topology has a face-varying channel, its values (2 doubles per
- * value). On success *out owns the result; destroy it with surfkit_osd_uniform_destroy. */
+/* Builds the refiner and refines uniformly `levels` times (1..=10); reports the counts of
+ * the last level. On success *out owns the refiner; destroy it with
+ * surfkit_osd_uniform_destroy. */
 int surfkit_osd_uniform_create(const surfkit_osd_topology* topology, int levels,
-                               const double* positions, const double* fvar_values,
                                surfkit_osd_uniform** out, surfkit_osd_uniform_counts* counts,
                                char** error);
 
-/* Copies the last level out: positions (3 per vertex), face_vertices (4 per face),
- * fvar_values (2 per value) and fvar_indices (4 per face); the fvar arrays may be NULL when
- * there is no channel. */
-int surfkit_osd_uniform_copy(const surfkit_osd_uniform* refined, double* positions,
-                             int* face_vertices, double* fvar_values, int* fvar_indices,
-                             char** error);
+/* Interpolates positions (3 doubles per control vertex) and, with a face-varying channel,
+ * its values (2 doubles per value) down to the last level, writing straight into the
+ * caller's arrays sized from the counts: out_positions (3 per vertex), out_face_vertices
+ * (4 per face), out_fvar_values (2 per value) and out_fvar_indices (4 per face); the fvar
+ * pointers may be NULL without a channel. */
+int surfkit_osd_uniform_copy(const surfkit_osd_uniform* refined, const double* positions,
+                             const double* fvar_values, double* out_positions,
+                             int* out_face_vertices, double* out_fvar_values,
+                             int* out_fvar_indices, char** error);
 
 void surfkit_osd_uniform_destroy(surfkit_osd_uniform* refined);
 

@@ -77,7 +77,12 @@ pub struct Topology<'a> {
 
 impl Topology<'_> {
     fn raw(&self) -> Result<raw::surfkit_osd_topology> {
-        let ok = self.face_vertices.len() == self.verts_per_face.iter().map(|&n| n as usize).sum::<usize>()
+        let ok = self.face_vertices.len()
+            == self
+                .verts_per_face
+                .iter()
+                .map(|&n| n as usize)
+                .sum::<usize>()
             && self.crease_vertex_pairs.len() == 2 * self.crease_sharpness.len()
             && self.corner_vertices.len() == self.corner_sharpness.len()
             && (self.num_fvar_values == 0 || self.fvar_indices.len() == self.face_vertices.len());
@@ -107,29 +112,29 @@ impl Topology<'_> {
     }
 }
 
-/// The last level of a uniform refinement: quads only.
+/// The last level of a uniform refinement: quads only, in the layout `PolygonMesh` keeps,
+/// so that the shim writes the result in place without further copies.
 pub struct UniformLevel {
-    /// 3 per vertex.
-    pub positions: Vec<f64>,
+    pub positions: Vec<[f64; 3]>,
     /// 4 per face.
-    pub face_vertices: Vec<i32>,
-    /// 2 per face-varying value (empty without a channel).
-    pub fvar_values: Vec<f64>,
+    pub face_vertices: Vec<u32>,
+    /// Empty without a face-varying channel.
+    pub fvar_values: Vec<[f64; 2]>,
     /// 4 per face (empty without a channel).
-    pub fvar_indices: Vec<i32>,
+    pub fvar_indices: Vec<u32>,
 }
 
-/// Uniform Catmull–Clark refinement by `levels` (1..=10) of `positions` (3 per vertex) and
-/// of `fvar_values` (2 per value) when the topology has a face-varying channel.
+/// Uniform Catmull–Clark refinement by `levels` (1..=10) of `positions` and of
+/// `fvar_values` when the topology has a face-varying channel.
 pub fn refine_uniform(
     topology: &Topology,
     levels: i32,
-    positions: &[f64],
-    fvar_values: &[f64],
+    positions: &[[f64; 3]],
+    fvar_values: &[[f64; 2]],
 ) -> Result<UniformLevel> {
     let t = topology.raw()?;
-    if positions.len() != 3 * topology.num_vertices as usize
-        || fvar_values.len() != 2 * topology.num_fvar_values as usize
+    if positions.len() != topology.num_vertices as usize
+        || fvar_values.len() != topology.num_fvar_values as usize
     {
         return Err(Error::InvalidInput(
             "positions or face-varying values do not match the topology".into(),
@@ -143,38 +148,33 @@ pub fn refine_uniform(
     };
     let mut msg = ptr::null_mut();
     // SAFETY: every pointer in `t` borrows a live slice of the length the counts say
-    // (checked in `raw`), positions/fvar lengths checked above, out pointers valid.
-    let status = unsafe {
-        raw::surfkit_osd_uniform_create(
-            &t,
-            levels,
-            positions.as_ptr(),
-            fvar_values.as_ptr(),
-            &mut handle,
-            &mut counts,
-            &mut msg,
-        )
-    };
+    // (checked in `raw`); out pointers valid.
+    let status =
+        unsafe { raw::surfkit_osd_uniform_create(&t, levels, &mut handle, &mut counts, &mut msg) };
     check(status, msg)?;
     let guard = UniformHandle(handle);
     let nv = counts.num_vertices as usize;
     let nf = counts.num_faces as usize;
     let nfv = counts.num_fvar_values as usize;
     let mut out = UniformLevel {
-        positions: vec![0.0; 3 * nv],
+        positions: vec![[0.0; 3]; nv],
         face_vertices: vec![0; 4 * nf],
-        fvar_values: vec![0.0; 2 * nfv],
+        fvar_values: vec![[0.0; 2]; nfv],
         fvar_indices: vec![0; if nfv > 0 { 4 * nf } else { 0 }],
     };
     let mut msg = ptr::null_mut();
-    // SAFETY: arrays sized from the counts the shim reported for this handle.
+    // SAFETY: output arrays sized from the counts the shim reported for this handle;
+    // [f64; N] arrays are N contiguous doubles; u32 and i32 share size and alignment and
+    // OpenSubdiv's indices are non-negative. Inputs checked against the topology above.
     let status = unsafe {
         raw::surfkit_osd_uniform_copy(
             guard.0,
-            out.positions.as_mut_ptr(),
-            out.face_vertices.as_mut_ptr(),
-            out.fvar_values.as_mut_ptr(),
-            out.fvar_indices.as_mut_ptr(),
+            positions.as_flattened().as_ptr(),
+            fvar_values.as_flattened().as_ptr(),
+            out.positions.as_flattened_mut().as_mut_ptr(),
+            out.face_vertices.as_mut_ptr().cast::<i32>(),
+            out.fvar_values.as_flattened_mut().as_mut_ptr(),
+            out.fvar_indices.as_mut_ptr().cast::<i32>(),
             &mut msg,
         )
     };

@@ -51,33 +51,25 @@ pub fn refine_uniform(
             corners * 4u128.pow(levels)
         )));
     }
-    let uv_coords: Vec<f64> = match &mesh.uvs {
-        Some(uv) if control.num_uvs > 0 => uv.coords.as_flattened().to_vec(),
-        _ => Vec::new(),
+    let uv_coords: &[[f64; 2]] = match &mesh.uvs {
+        Some(uv) if control.num_uvs > 0 => &uv.coords,
+        _ => &[],
     };
     let level = ffi::refine_uniform(
         &control.topology(),
         levels as i32,
-        mesh.positions_flat(),
-        &uv_coords,
+        &mesh.positions,
+        uv_coords,
     )?;
     let nf = level.face_vertices.len() / 4;
-    let uvs = (control.num_uvs > 0).then(|| CornerUvs {
-        coords: level
-            .fvar_values
-            .chunks_exact(2)
-            .map(|c| [c[0], c[1]])
-            .collect(),
-        corner_indices: level.fvar_indices.iter().map(|&i| i as u32).collect(),
+    let uvs = (control.num_uvs > 0).then_some(CornerUvs {
+        coords: level.fvar_values,
+        corner_indices: level.fvar_indices,
     });
     Ok(PolygonMesh {
-        positions: level
-            .positions
-            .chunks_exact(3)
-            .map(|c| [c[0], c[1], c[2]])
-            .collect(),
+        positions: level.positions,
         face_offsets: (0..=nf as u32).map(|f| 4 * f).collect(),
-        face_indices: level.face_vertices.iter().map(|&i| i as u32).collect(),
+        face_indices: level.face_vertices,
         uvs,
         ..Default::default()
     })
