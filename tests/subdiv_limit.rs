@@ -461,3 +461,53 @@ fn valence_two_vertices_are_degenerate_points_not_nans() {
     }
     assert!(sampled.mesh.quality.unwrap().iter().all(|q| q.is_finite()));
 }
+
+#[test]
+fn every_fixture_gets_a_limit_surface_that_evaluates() {
+    // Non-manifold edges and vertices, unreferenced vertices, duplicated faces: OpenSubdiv
+    // builds patches where it can; whatever it builds must evaluate to finite values at the
+    // centre of every patch, and no face may be covered twice.
+    let reference: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(cgal::fixture("REFERENCE.json")).unwrap())
+            .unwrap();
+    for entry in reference["meshes"].as_array().unwrap() {
+        let name = entry["file"].as_str().unwrap();
+        let mesh = read(&cgal::fixture(name)).unwrap();
+        let s = limit_surface(&mesh, &SubdivOptions::default(), &PatchOptions::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let points: Vec<SurfacePoint> = s
+            .patches()
+            .iter()
+            .map(|p| SurfacePoint {
+                ptex_face: p.ptex_face,
+                u: p.u0 + p.size / 2.0,
+                v: p.v0 + p.size / 2.0,
+            })
+            .collect();
+        let values = s.evaluate(&points).unwrap();
+        assert!(
+            values
+                .iter()
+                .all(|d| d.position.iter().chain(&d.dvvv).all(|c| c.is_finite())),
+            "{name}"
+        );
+        let areas = coverage(&s);
+        assert!(
+            areas.iter().all(|&a| a <= 1.0 + ROUND_OFF),
+            "{name}: a face covered twice"
+        );
+        let manifold = entry["non_manifold_edges"].as_i64() == Some(0)
+            && entry["non_manifold_vertices"].as_i64() == Some(0);
+        if manifold {
+            assert!(
+                areas.iter().all(|&a| (a - 1.0).abs() <= ROUND_OFF),
+                "{name}: a face not covered"
+            );
+        }
+        eprintln!(
+            "{name}: {} patches over {} ptex faces",
+            s.patches().len(),
+            s.ptex_face_count()
+        );
+    }
+}

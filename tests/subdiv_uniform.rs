@@ -374,3 +374,41 @@ fn smooth_uvs_without_seams_refine_like_positions() {
         }
     }
 }
+
+#[test]
+fn semi_sharp_crease_blends_smooth_and_sharp_edge_points() {
+    // Sdc: an edge of sharpness s in (0, 1) gets s · midpoint + (1 − s) · smooth edge point
+    // (the average of its ends and the two face centroids); s ≥ 1 is sharp at this level.
+    let mesh = grid(4, 2);
+    let id = |i: u32, j: u32| j * 5 + i;
+    let (a, b) = (id(1, 1), id(2, 1));
+    let p = |v: u32| mesh.positions[v as usize];
+    let centroid = |f: [u32; 4]| -> [f64; 3] {
+        std::array::from_fn(|k| f.iter().map(|&v| p(v)[k]).sum::<f64>() / 4.0)
+    };
+    let below = centroid([id(1, 0), id(2, 0), id(2, 1), id(1, 1)]);
+    let above = centroid([id(1, 1), id(2, 1), id(2, 2), id(1, 2)]);
+    for sharpness in [0.0f32, 0.25, 0.5, 1.0, 3.0] {
+        let options = SubdivOptions {
+            creases: vec![surfkit::subdiv::Crease {
+                vertices: [a, b],
+                sharpness,
+            }],
+            ..Default::default()
+        };
+        let refined = refine_uniform(&mesh, 1, &options).unwrap();
+        let s = f64::from(sharpness).min(1.0);
+        let expect: [f64; 3] = std::array::from_fn(|k| {
+            let mid = (p(a)[k] + p(b)[k]) / 2.0;
+            let smooth = (p(a)[k] + p(b)[k] + below[k] + above[k]) / 4.0;
+            s * mid + (1.0 - s) * smooth
+        });
+        assert!(
+            refined
+                .positions
+                .iter()
+                .any(|q| (0..3).all(|k| (q[k] - expect[k]).abs() <= ROUND_OFF)),
+            "sharpness {sharpness}: no edge point at {expect:?}"
+        );
+    }
+}

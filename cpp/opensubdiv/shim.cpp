@@ -275,6 +275,7 @@ struct surfkit_osd_patches {
   std::vector<Far::PatchTable::PatchHandle> handles;              // per patch
   int num_control_vertices = 0;
   int num_patch_points = 0;
+  size_t num_stencil_entries = 0;
 };
 
 extern "C" int surfkit_osd_patches_create(const surfkit_osd_topology* topology,
@@ -339,12 +340,23 @@ extern "C" int surfkit_osd_patches_create(const surfkit_osd_topology* topology,
         result->handles.push_back(h);
       }
     }
+    // Stencils are exported packed, in order: count the entries from their sizes (the
+    // table's own vectors may hold more than its stencils use).
     const auto& st = *result->stencils;
+    const int ns = st.GetNumStencils();
+    size_t entries = 0;
+    for (int k = 0; k < ns; ++k) {
+      const size_t end = static_cast<size_t>(st.GetOffsets()[k]) + st.GetSizes()[k];
+      if (end > st.GetControlIndices().size() || end > st.GetWeights().size())
+        return "stencil " + std::to_string(k) + " runs past the stencil table";
+      entries += st.GetSizes()[k];
+    }
+    result->num_stencil_entries = entries;
     counts->num_patches = static_cast<int>(result->handles.size());
     counts->num_ptex_faces = table.GetNumPtexFaces();
     counts->num_control_vertices = result->num_control_vertices;
     counts->num_patch_points = result->num_patch_points;
-    counts->num_stencil_weights = static_cast<int>(st.GetControlIndices().size());
+    counts->num_stencil_weights = static_cast<int>(entries);
     *out = result.release();
     return "";
   });
@@ -379,10 +391,16 @@ extern "C" int surfkit_osd_patches_copy(const surfkit_osd_patches* r,
     const auto& offsets = st.GetOffsets();
     const auto& indices = st.GetControlIndices();
     const auto& weights = st.GetWeights();
-    for (int s = 0; s < ns; ++s) a->stencil_offsets[s] = offsets[s];
-    a->stencil_offsets[ns] = ns > 0 ? offsets[ns - 1] + sizes[ns - 1] : 0;
-    std::copy(indices.begin(), indices.end(), a->stencil_indices);
-    std::copy(weights.begin(), weights.end(), a->stencil_weights);
+    int packed = 0;
+    for (int s = 0; s < ns; ++s) {
+      a->stencil_offsets[s] = packed;
+      std::copy(indices.begin() + offsets[s], indices.begin() + offsets[s] + sizes[s],
+                a->stencil_indices + packed);
+      std::copy(weights.begin() + offsets[s], weights.begin() + offsets[s] + sizes[s],
+                a->stencil_weights + packed);
+      packed += sizes[s];
+    }
+    a->stencil_offsets[ns] = packed;
     return "";
   });
 }

@@ -110,6 +110,35 @@ pub fn limit_surface(
             message: "patch table counts disagree with the control mesh".into(),
         });
     }
+    // Indices from the shim are checked once here, so that evaluation can index freely.
+    let points_ok = data
+        .patch_points
+        .iter()
+        .all(|&i| i < data.num_patch_points as i32);
+    let stencils_ok = data
+        .stencil_indices
+        .iter()
+        .all(|&i| i >= 0 && (i as usize) < ncv)
+        && data
+            .stencil_offsets
+            .windows(2)
+            .all(|w| 0 <= w[0] && w[0] <= w[1])
+        && data.stencil_offsets.last().map(|&o| o as usize) == Some(data.stencil_indices.len());
+    let ptex_ok = data
+        .ptex_face
+        .iter()
+        .all(|&p| p >= 0 && (p as usize) < data.num_ptex_faces)
+        && data
+            .ptex_of_face
+            .windows(2)
+            .all(|w| 0 <= w[0] && w[0] <= w[1])
+        && data.ptex_of_face.last().map(|&o| o as usize) == Some(data.num_ptex_faces);
+    if !(points_ok && stencils_ok && ptex_ok) {
+        return Err(Error::Ffi {
+            library: "OpenSubdiv",
+            message: "patch table indices out of range".into(),
+        });
+    }
     let face_of_ptex = {
         let mut out = vec![0u32; data.num_ptex_faces];
         for f in 0..control.face_count() {
