@@ -412,3 +412,12 @@ fn semi_sharp_crease_blends_smooth_and_sharp_edge_points() {
         );
     }
 }
+
+#[test]
+fn opensubdiv_links_and_is_debians_3_5() {
+    // build.rs links Debian's libosd-dev 3.5; the shim's self-test refines a cube once and
+    // checks OpenSubdiv's counts (26 vertices, 24 quads).
+    let (major, minor, _) = surfkit::subdiv::opensubdiv_version();
+    assert_eq!((major, minor), (3, 5));
+    surfkit::subdiv::self_test().unwrap();
+}
