@@ -511,3 +511,55 @@ fn every_fixture_gets_a_limit_surface_that_evaluates() {
         );
     }
 }
+
+#[test]
+fn patch_weights_are_the_derivative_with_respect_to_control_vertices() {
+    // The limit position is linear in the control vertices: moving vertex j by δ moves the
+    // point at (s, t) of patch p by δ · Σ_k B_k(s, t) w_kj. Checked by moving each vertex
+    // that patch p depends on and re-evaluating through OpenSubdiv.
+    let mesh = read(&cgal::fixture("catmark_nonquads.obj")).unwrap();
+    let mut s = surface(&mesh);
+    for p in [0usize, 5, 17, 40] {
+        let patch = s.patches()[p];
+        let (a, b) = (0.3, 0.7);
+        let point = SurfacePoint {
+            ptex_face: patch.ptex_face,
+            u: patch.u0 + a * patch.size,
+            v: patch.v0 + b * patch.size,
+        };
+        let weights = s.patch_weights(p).unwrap();
+        let (bu, bv) = (
+            surfkit::subdiv::cubic_basis(a)[0],
+            surfkit::subdiv::cubic_basis(b)[0],
+        );
+        let mut derivative = std::collections::HashMap::new();
+        for (k, row) in weights.iter().enumerate() {
+            for &(v, w) in row {
+                *derivative.entry(v).or_insert(0.0) += bu[k % 4] * bv[k / 4] * w;
+            }
+        }
+        let base = s.evaluate(&[point]).unwrap()[0].position;
+        for (&v, &dp) in &derivative {
+            let mut moved = mesh.positions.clone();
+            moved[v as usize][2] += 1.0;
+            s.set_control_points(&moved).unwrap();
+            let shifted = s.evaluate(&[point]).unwrap()[0].position;
+            assert_near!(shifted[2] - base[2], dp, ROUND_OFF, "patch {p} vertex {v}");
+            assert_near!(shifted[0] - base[0], 0.0, ROUND_OFF);
+        }
+        // Vertices outside the stencils do not move the point.
+        for v in (0..mesh.vertex_count() as u32).filter(|v| !derivative.contains_key(v)) {
+            let mut moved = mesh.positions.clone();
+            moved[v as usize][2] += 1.0;
+            s.set_control_points(&moved).unwrap();
+            let shifted = s.evaluate(&[point]).unwrap()[0].position;
+            assert_near!(
+                shifted[2] - base[2],
+                0.0,
+                ROUND_OFF,
+                "patch {p}: vertex {v} is outside its support"
+            );
+        }
+        s.set_control_points(&mesh.positions).unwrap();
+    }
+}
