@@ -421,3 +421,31 @@ fn opensubdiv_links_and_is_debians_3_5() {
     assert_eq!((major, minor), (3, 5));
     surfkit::subdiv::self_test().unwrap();
 }
+
+#[test]
+fn degenerate_faces_refine_without_failing() {
+    // A repeated corner, a duplicated face, opposite orientations: OpenSubdiv accepts them
+    // (the soup never refuses input) and refinement still yields one quad per corner.
+    let positions = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ];
+    let cases: [&[&[u32]]; 3] = [
+        &[&[0, 1, 1, 2]],
+        &[&[0, 1, 2, 3], &[0, 1, 2, 3]],
+        &[&[0, 1, 2], &[0, 2, 1]],
+    ];
+    for faces in cases {
+        let mesh = PolygonMesh::from_polygons(positions.clone(), faces);
+        let refined = refine_uniform(&mesh, 2, &SubdivOptions::default()).unwrap();
+        assert_eq!(
+            refined.face_count(),
+            4 * mesh.face_indices.len(),
+            "{faces:?}"
+        );
+        assert!(refined.positions.iter().flatten().all(|c| c.is_finite()));
+        refined.validate().unwrap();
+    }
+}
