@@ -11,7 +11,9 @@ pub mod error;
 mod ffi;
 pub mod halfedge;
 pub mod mesh;
+pub mod report;
 pub mod shapes;
+pub mod subdiv;
 pub mod tolerance;
 pub mod topology;
 

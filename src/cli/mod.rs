@@ -4,6 +4,8 @@ mod convert;
 mod demo;
 mod eat;
 mod info;
+mod limit;
+mod subdivide;
 
 use std::process::ExitCode;
 
@@ -26,6 +28,10 @@ enum Command {
     Convert(convert::ConvertArgs),
     /// The Euler Accompanying Test: V, E, F, χ at test points, and every topological flaw.
     Eat(eat::EatArgs),
+    /// Uniform Catmull–Clark refinement with OpenSubdiv (quads and refined UVs out).
+    Subdivide(subdivide::SubdivideArgs),
+    /// Limit-surface samples with mean curvature as quality (a curvature map for MeshLab).
+    Limit(limit::LimitArgs),
     /// Runs surfkit on its built-in example and writes the results to a folder.
     Demo(demo::DemoArgs),
 }
@@ -38,6 +44,8 @@ pub fn main() -> ExitCode {
         Command::Convert(a) => convert::run(a),
         Command::Demo(a) => demo::run(a),
         Command::Eat(a) => eat::run(a),
+        Command::Subdivide(a) => subdivide::run(a).map(|()| ExitCode::SUCCESS),
+        Command::Limit(a) => limit::run(a).map(|()| ExitCode::SUCCESS),
     };
     match result {
         Ok(code) => code,
