@@ -18,30 +18,8 @@ use std::time::{Duration, Instant};
 
 use criterion::Criterion;
 use surfkit::mesh::io::{write, WriteOptions};
-use surfkit::mesh::PolygonMesh;
+use surfkit::shapes::grid_torus;
 use surfkit::subdiv::{refine_uniform, SubdivOptions};
-
-/// A closed torus of `nu × nv` quads.
-fn quad_torus(nu: u32, nv: u32) -> PolygonMesh {
-    let mut positions = Vec::with_capacity((nu * nv) as usize);
-    for i in 0..nu {
-        for j in 0..nv {
-            let (a, b) = (
-                std::f64::consts::TAU * f64::from(i) / f64::from(nu),
-                std::f64::consts::TAU * f64::from(j) / f64::from(nv),
-            );
-            let r = 3.0 + b.cos();
-            positions.push([r * a.cos(), r * a.sin(), b.sin()]);
-        }
-    }
-    let id = |i: u32, j: u32| (i % nu) * nv + (j % nv);
-    let faces: Vec<[u32; 4]> = (0..nu)
-        .flat_map(|i| {
-            (0..nv).map(move |j| [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)])
-        })
-        .collect();
-    PolygonMesh::from_polygons(positions, &faces)
-}
 
 fn bench_dir() -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench-data");
@@ -139,7 +117,7 @@ fn main() {
         .configure_from_args();
     let mut rows = Vec::new();
     for &(nu, nv) in sizes {
-        let mesh = quad_torus(nu, nv);
+        let mesh = grid_torus(nu, nv, false);
         let faces = mesh.face_count();
         let off = bench_dir().join(format!("quad_torus_{faces}.off"));
         let obj = bench_dir().join(format!("quad_torus_{faces}.obj"));

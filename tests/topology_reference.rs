@@ -167,15 +167,7 @@ fn holes_are_the_loops_openmesh_walks_where_it_takes_every_facet() {
         let ours: BTreeSet<Vec<u32>> = report
             .flaws
             .iter()
-            .filter(|f| {
-                matches!(
-                    f.kind,
-                    FlawKind::Hole
-                        | FlawKind::MissingTriangle
-                        | FlawKind::MissingQuad
-                        | FlawKind::Crack
-                )
-            })
+            .filter(|f| f.kind.is_boundary_loop())
             .map(|f| {
                 // Cracks list the long edge first; rebuild the cycle for comparison.
                 if f.kind == FlawKind::Crack {

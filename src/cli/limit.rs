@@ -5,7 +5,6 @@
 
 use std::path::PathBuf;
 
-use crate::error::Error;
 use crate::mesh::io::{read, write, WriteOptions};
 use crate::subdiv::{limit_surface, sample_limit, PatchOptions, SampleOptions, SubdivOptions};
 
@@ -37,17 +36,7 @@ pub struct LimitArgs {
 }
 
 pub fn run(args: &LimitArgs) -> crate::Result<()> {
-    if args
-        .input
-        .canonicalize()
-        .ok()
-        .is_some_and(|a| args.output.canonicalize().ok() == Some(a))
-    {
-        return Err(Error::InvalidInput(format!(
-            "{}: refusing to write over the input file",
-            args.output.display()
-        )));
-    }
+    super::refuse_overwrite(&args.input, &args.output)?;
     let mesh = read(&args.input)?;
     let options = SubdivOptions {
         boundary: args.boundary.into(),
@@ -89,9 +78,7 @@ pub fn run(args: &LimitArgs) -> crate::Result<()> {
             "degenerate_samples": sampled.degenerate.len(),
             "mean_curvature": { "min": lo, "max": hi },
         });
-        let text = serde_json::to_string_pretty(&report)
-            .map_err(|e| Error::InvalidInput(format!("report cannot be written as JSON: {e}")))?;
-        println!("{text}");
+        super::print_json(&report)?;
     } else {
         println!(
             "{} → {}: limit surface of {} patches ({} regular, {} B-spline end caps), {} samples \

@@ -56,6 +56,17 @@ pub fn main() -> ExitCode {
     }
 }
 
+/// An error when `output` names the same file as `input`: surfkit never writes over its input.
+fn refuse_overwrite(input: &std::path::Path, output: &std::path::Path) -> crate::Result<()> {
+    match (input.canonicalize(), output.canonicalize()) {
+        (Ok(a), Ok(b)) if a == b => Err(crate::Error::InvalidInput(format!(
+            "{}: refusing to write over the input file",
+            output.display()
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// Prints a report as pretty JSON on standard output.
 fn print_json<T: serde::Serialize>(report: &T) -> crate::Result<()> {
     let text = serde_json::to_string_pretty(report).map_err(|e| {

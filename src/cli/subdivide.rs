@@ -4,7 +4,6 @@
 
 use std::path::PathBuf;
 
-use crate::error::Error;
 use crate::mesh::io::{read, write, WriteOptions};
 use crate::subdiv::{
     refine_uniform, BoundaryInterpolation, FaceVaryingInterpolation, SubdivOptions,
@@ -85,17 +84,7 @@ pub struct SubdivideArgs {
 }
 
 pub fn run(args: &SubdivideArgs) -> crate::Result<()> {
-    if args
-        .input
-        .canonicalize()
-        .ok()
-        .is_some_and(|a| args.output.canonicalize().ok() == Some(a))
-    {
-        return Err(Error::InvalidInput(format!(
-            "{}: refusing to write over the input file",
-            args.output.display()
-        )));
-    }
+    super::refuse_overwrite(&args.input, &args.output)?;
     let mesh = read(&args.input)?;
     let options = SubdivOptions {
         boundary: args.boundary.into(),
@@ -111,9 +100,7 @@ pub fn run(args: &SubdivideArgs) -> crate::Result<()> {
             "vertices": refined.vertex_count(), "faces": refined.face_count(),
             "uvs": refined.uvs.is_some(),
         });
-        let text = serde_json::to_string_pretty(&report)
-            .map_err(|e| Error::InvalidInput(format!("report cannot be written as JSON: {e}")))?;
-        println!("{text}");
+        super::print_json(&report)?;
     } else {
         println!(
             "{} → {}: Catmull–Clark ×{} (OpenSubdiv), {} faces → {} quads, {} vertices{}",

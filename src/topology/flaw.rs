@@ -63,6 +63,14 @@ impl FlawKind {
         }
     }
 
+    /// Whether the flaw is a boundary loop (hole, missing facet or crack).
+    pub fn is_boundary_loop(self) -> bool {
+        matches!(
+            self,
+            FlawKind::Hole | FlawKind::MissingTriangle | FlawKind::MissingQuad | FlawKind::Crack
+        )
+    }
+
     /// Parses a name of [`FlawKind::name`].
     pub fn from_name(name: &str) -> Option<FlawKind> {
         FlawKind::ALL.into_iter().find(|k| k.name() == name)

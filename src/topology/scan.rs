@@ -199,18 +199,7 @@ fn counts(
     let inconsistent = registry.edges().iter().filter(|e| e.inconsistent()).count();
     let degenerate = count(FlawKind::DegenerateFacet);
     let boundary_edges = registry.edges().iter().filter(|e| e.ec == 1).count();
-    let walk = flaws
-        .iter()
-        .filter(|f| {
-            matches!(
-                f.kind,
-                FlawKind::Hole
-                    | FlawKind::MissingTriangle
-                    | FlawKind::MissingQuad
-                    | FlawKind::Crack
-            )
-        })
-        .count();
+    let walk = flaws.iter().filter(|f| f.kind.is_boundary_loop()).count();
     let manifold = nm_edges == 0 && structure.non_manifold_vertices.is_empty() && degenerate == 0;
     let loops = structure.boundary_loop_count as i64;
     let c = i64::from(structure.component_count);
