@@ -7,7 +7,10 @@
 #![deny(unsafe_code)]
 
 pub mod error;
+pub mod fit;
+pub mod linalg;
 pub mod mesh;
+pub mod spline;
 pub mod tolerance;
 
 pub use error::{Error, Result};

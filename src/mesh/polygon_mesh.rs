@@ -111,7 +111,10 @@ impl PolygonMesh {
 
     /// The corners of face `f`.
     pub fn face(&self, f: usize) -> &[u32] {
-        let (a, b) = (self.face_offsets[f] as usize, self.face_offsets[f + 1] as usize);
+        let (a, b) = (
+            self.face_offsets[f] as usize,
+            self.face_offsets[f + 1] as usize,
+        );
         &self.face_indices[a..b]
     }
 
@@ -194,14 +197,19 @@ impl PolygonMesh {
         for (what, labels) in [("objects", &self.objects), ("groups", &self.groups)] {
             if let Some(l) = labels {
                 if l.of_face.len() != faces {
-                    return bad(format!("{what} label {} faces, mesh has {faces}", l.of_face.len()));
+                    return bad(format!(
+                        "{what} label {} faces, mesh has {faces}",
+                        l.of_face.len()
+                    ));
                 }
                 if let Some(f) = l
                     .of_face
                     .iter()
                     .position(|&i| i != NO_LABEL && i as usize >= l.names.len())
                 {
-                    return bad(format!("{what}: face {f} names a label that does not exist"));
+                    return bad(format!(
+                        "{what}: face {f} names a label that does not exist"
+                    ));
                 }
             }
         }
@@ -209,14 +217,26 @@ impl PolygonMesh {
             if uv.corner_indices.len() != self.face_indices.len() {
                 return bad("uv corner indices do not match the face corners".into());
             }
-            if uv.corner_indices.iter().any(|&i| i as usize >= uv.coords.len()) {
+            if uv
+                .corner_indices
+                .iter()
+                .any(|&i| i as usize >= uv.coords.len())
+            {
                 return bad("a uv corner index is out of range".into());
             }
         }
-        if self.quality.as_ref().is_some_and(|q| q.len() != self.positions.len()) {
+        if self
+            .quality
+            .as_ref()
+            .is_some_and(|q| q.len() != self.positions.len())
+        {
             return bad("quality must have one value per vertex".into());
         }
-        if self.colors.as_ref().is_some_and(|c| c.len() != self.positions.len()) {
+        if self
+            .colors
+            .as_ref()
+            .is_some_and(|c| c.len() != self.positions.len())
+        {
             return bad("colors must have one value per vertex".into());
         }
         Ok(())

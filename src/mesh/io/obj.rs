@@ -78,7 +78,10 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                     _ => {
                         return Err(err(
                             number,
-                            format!("texture coordinate is not two finite numbers: {:?}", show(line)),
+                            format!(
+                                "texture coordinate is not two finite numbers: {:?}",
+                                show(line)
+                            ),
                         ))
                     }
                 }
@@ -171,7 +174,8 @@ fn read_face<'a>(
         }
         b.raw_indices.push(resolved);
         if let Some(vt) = parts.next().filter(|s| !s.is_empty()) {
-            let ti = parse_i64(vt).ok_or_else(|| format!("{:?} is not a texture index", show(t)))?;
+            let ti =
+                parse_i64(vt).ok_or_else(|| format!("{:?} is not a texture index", show(t)))?;
             let r = if ti < 0 { uv_count + ti } else { ti - 1 };
             if r < 0 || r >= uv_count {
                 return Err(format!(

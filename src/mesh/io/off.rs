@@ -52,12 +52,18 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             if layout.is_none() {
                 return Err(err(
                     n,
-                    format!("not an OFF file: expected OFF, COFF, NOFF or STOFF, found {:?}", show(first)),
+                    format!(
+                        "not an OFF file: expected OFF, COFF, NOFF or STOFF, found {:?}",
+                        show(first)
+                    ),
                 ));
             }
             if let Some(t) = toks.next() {
                 if t == b"BINARY" {
-                    return Err(err(n, "binary OFF is not supported; write it as ASCII OFF or PLY".into()));
+                    return Err(err(
+                        n,
+                        "binary OFF is not supported; write it as ASCII OFF or PLY".into(),
+                    ));
                 }
                 pending.push(t);
                 pending.extend(toks);
@@ -70,9 +76,12 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
     // Counts: vertices, faces, edges (edges ignored).
     let mut counts_line = header_line;
     while pending.len() < 2 {
-        let (n, line) = lines
-            .next()
-            .ok_or_else(|| err(header_line, "the file ends before the vertex and face counts".into()))?;
+        let (n, line) = lines.next().ok_or_else(|| {
+            err(
+                header_line,
+                "the file ends before the vertex and face counts".into(),
+            )
+        })?;
         pending.extend(tokens(strip_comment(line)));
         counts_line = n;
     }
@@ -80,7 +89,12 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
         parse_i64(t)
             .filter(|&c| c >= 0)
             .map(|c| c as usize)
-            .ok_or_else(|| err(counts_line, format!("{what} count {:?} is not a count", show(t))))
+            .ok_or_else(|| {
+                err(
+                    counts_line,
+                    format!("{what} count {:?} is not a count", show(t)),
+                )
+            })
     };
     let n_vertices = count(pending[0], "vertex")?;
     let n_faces = count(pending[1], "face")?;
@@ -99,7 +113,10 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             } else {
                 format!("{} of the {n_faces} faces", seen - n_vertices)
             };
-            return Err(err(last_line, format!("the file ends after {what} the header declares")));
+            return Err(err(
+                last_line,
+                format!("the file ends after {what} the header declares"),
+            ));
         };
         last_line = n;
         if seen >= n_vertices {
@@ -119,11 +136,21 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
         }
         if seen < n_vertices {
             let vals: Vec<f64> = toks
-                .map(|t| parse_f64(t).ok_or_else(|| err(n, format!("vertex {seen}: {:?} is not a number", show(t)))))
+                .map(|t| {
+                    parse_f64(t).ok_or_else(|| {
+                        err(n, format!("vertex {seen}: {:?} is not a number", show(t)))
+                    })
+                })
                 .collect::<Result<_>>()?;
             let needed = 3 + if layout.normal { 3 } else { 0 };
             if vals.len() < needed {
-                return Err(err(n, format!("vertex {seen}: expected at least {needed} numbers, found {}", vals.len())));
+                return Err(err(
+                    n,
+                    format!(
+                        "vertex {seen}: expected at least {needed} numbers, found {}",
+                        vals.len()
+                    ),
+                ));
             }
             if let Some(c) = vals.iter().find(|c| !c.is_finite()) {
                 return Err(err(n, format!("vertex {seen}: {c} is not a finite number")));
@@ -131,20 +158,35 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             mesh.positions.push([vals[0], vals[1], vals[2]]);
             if layout.color {
                 let c = &vals[needed..];
-                colors.push(off_color(c).ok_or_else(|| err(n, format!("vertex {seen}: COFF needs a colour (3 or 4 values) after the position")))?);
+                colors.push(off_color(c).ok_or_else(|| {
+                    err(
+                        n,
+                        format!(
+                            "vertex {seen}: COFF needs a colour (3 or 4 values) after the position"
+                        ),
+                    )
+                })?);
             }
         } else {
             let f = seen - n_vertices;
             let first = toks.next().unwrap();
-            let arity = parse_i64(first)
-                .filter(|&a| a >= 0)
-                .ok_or_else(|| err(n, format!("face {f}: corner count {:?} is not a count", show(first))))? as usize;
+            let arity = parse_i64(first).filter(|&a| a >= 0).ok_or_else(|| {
+                err(
+                    n,
+                    format!("face {f}: corner count {:?} is not a count", show(first)),
+                )
+            })? as usize;
             let start = mesh.face_indices.len();
             for k in 0..arity {
-                let t = toks
-                    .next()
-                    .ok_or_else(|| err(n, format!("face {f}: declares {arity} corners but lists {k}")))?;
-                let i = parse_i64(t).ok_or_else(|| err(n, format!("face {f}: {:?} is not a vertex index", show(t))))?;
+                let t = toks.next().ok_or_else(|| {
+                    err(
+                        n,
+                        format!("face {f}: declares {arity} corners but lists {k}"),
+                    )
+                })?;
+                let i = parse_i64(t).ok_or_else(|| {
+                    err(n, format!("face {f}: {:?} is not a vertex index", show(t)))
+                })?;
                 if let Some(m) = out_of_range(i, n_vertices, 0) {
                     return Err(err(n, format!("face {f}: {m}")));
                 }
@@ -152,7 +194,10 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             }
             // The rest of the line is the facet's colour: ignored, but it must be numbers.
             if let Some(t) = toks.find(|t| parse_f64(t).is_none()) {
-                return Err(err(n, format!("face {f}: unexpected {:?} after the corners", show(t))));
+                return Err(err(
+                    n,
+                    format!("face {f}: unexpected {:?} after the corners", show(t)),
+                ));
             }
             if !options.keep_degenerate {
                 if let Some(m) = degeneracy(&mesh.face_indices[start..]) {
@@ -198,13 +243,22 @@ fn off_color(c: &[f64]) -> Option<[u8; 4]> {
             (v.clamp(0.0, 1.0) * 255.0).round() as u8
         }
     };
-    Some([conv(c[0]), conv(c[1]), conv(c[2]), c.get(3).map_or(255, |&a| conv(a))])
+    Some([
+        conv(c[0]),
+        conv(c[1]),
+        conv(c[2]),
+        c.get(3).map_or(255, |&a| conv(a)),
+    ])
 }
 
 /// Writes OFF (COFF with integer colours when the mesh has vertex colours).
 pub fn write(out: &mut dyn Write, mesh: &PolygonMesh) -> std::io::Result<()> {
     let keyword = if mesh.colors.is_some() { "COFF" } else { "OFF" };
-    writeln!(out, "{keyword}\n# written by surfkit {}", env!("CARGO_PKG_VERSION"))?;
+    writeln!(
+        out,
+        "{keyword}\n# written by surfkit {}",
+        env!("CARGO_PKG_VERSION")
+    )?;
     writeln!(out, "{} {} 0", mesh.vertex_count(), mesh.face_count())?;
     for (v, p) in mesh.positions.iter().enumerate() {
         write_f64(out, p[0])?;

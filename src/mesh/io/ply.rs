@@ -157,11 +157,17 @@ fn parse_header(path: &Path, bytes: &[u8]) -> Result<Header> {
                     ["list", c, i, name] => {
                         let count = ty(c)?;
                         if !count.is_integer() {
-                            return Err(err(number, format!("list count type {c:?} is not an integer type")));
+                            return Err(err(
+                                number,
+                                format!("list count type {c:?} is not an integer type"),
+                            ));
                         }
                         Property {
                             name: name.to_string(),
-                            kind: Kind::List { count, item: ty(i)? },
+                            kind: Kind::List {
+                                count,
+                                item: ty(i)?,
+                            },
                         }
                     }
                     [t, name] => Property {
@@ -320,7 +326,9 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             roles.xyz[axis] = v
                 .find(&[name])
                 .filter(|&k| matches!(v.properties[k].kind, Kind::Scalar(_)))
-                .ok_or_else(|| hdr_err(format!("element vertex has no scalar property {name:?}")))?;
+                .ok_or_else(|| {
+                    hdr_err(format!("element vertex has no scalar property {name:?}"))
+                })?;
         }
         roles.quality = v.find(&["quality"]);
         let red = v.find(&["red", "diffuse_red"]);
@@ -458,7 +466,11 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             };
             let fail = |m: String| located(line_number, m);
             if is_vertex {
-                let p = [slots[roles.xyz[0]], slots[roles.xyz[1]], slots[roles.xyz[2]]];
+                let p = [
+                    slots[roles.xyz[0]],
+                    slots[roles.xyz[1]],
+                    slots[roles.xyz[2]],
+                ];
                 if !p.iter().all(|c| c.is_finite()) {
                     return Err(fail(format!("coordinates {p:?} are not finite")));
                 }
@@ -497,9 +509,7 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                         )));
                     }
                     for uv in tc.chunks_exact(2) {
-                        wedge_uv
-                            .corner_indices
-                            .push(wedge_uv.coords.len() as u32);
+                        wedge_uv.corner_indices.push(wedge_uv.coords.len() as u32);
                         wedge_uv.coords.push([uv[0], uv[1]]);
                     }
                 }
@@ -606,7 +616,10 @@ fn label_names(comments: &[String], kind: &str) -> Vec<String> {
     let mut names: Vec<(usize, String)> = comments
         .iter()
         .filter_map(|c| {
-            let rest = c.strip_prefix("surfkit ")?.strip_prefix(kind)?.strip_prefix(' ')?;
+            let rest = c
+                .strip_prefix("surfkit ")?
+                .strip_prefix(kind)?
+                .strip_prefix(' ')?;
             let (id, name) = rest.split_once(' ').unwrap_or((rest, ""));
             Some((id.parse().ok()?, name.to_string()))
         })
@@ -617,7 +630,11 @@ fn label_names(comments: &[String], kind: &str) -> Vec<String> {
 
 /// Writes PLY: double positions, `double quality`, `uchar` RGBA, corner lists, MeshLab's
 /// wedge `texcoord`, and surfkit's `object_id`/`group_id` with names in comments.
-pub fn write(out: &mut dyn Write, mesh: &PolygonMesh, encoding: PlyEncoding) -> std::io::Result<()> {
+pub fn write(
+    out: &mut dyn Write,
+    mesh: &PolygonMesh,
+    encoding: PlyEncoding,
+) -> std::io::Result<()> {
     let format = match encoding {
         PlyEncoding::Ascii => "ascii",
         PlyEncoding::BinaryLittleEndian => "binary_little_endian",
@@ -630,21 +647,35 @@ pub fn write(out: &mut dyn Write, mesh: &PolygonMesh, encoding: PlyEncoding) -> 
         .max()
         .unwrap_or(0);
     let count_type = if max_arity <= 255 { "uchar" } else { "int" };
-    writeln!(out, "ply\nformat {format} 1.0\ncomment written by surfkit {}", env!("CARGO_PKG_VERSION"))?;
+    writeln!(
+        out,
+        "ply\nformat {format} 1.0\ncomment written by surfkit {}",
+        env!("CARGO_PKG_VERSION")
+    )?;
     for (kind, labels) in [("object", &mesh.objects), ("group", &mesh.groups)] {
         if let Some(l) = labels {
             for (i, n) in l.names.iter().enumerate() {
-                writeln!(out, "comment surfkit {kind} {i} {}", n.replace(['\n', '\r'], " "))?;
+                writeln!(
+                    out,
+                    "comment surfkit {kind} {i} {}",
+                    n.replace(['\n', '\r'], " ")
+                )?;
             }
         }
     }
     writeln!(out, "element vertex {}", mesh.vertex_count())?;
-    writeln!(out, "property double x\nproperty double y\nproperty double z")?;
+    writeln!(
+        out,
+        "property double x\nproperty double y\nproperty double z"
+    )?;
     if mesh.quality.is_some() {
         writeln!(out, "property double quality")?;
     }
     if mesh.colors.is_some() {
-        writeln!(out, "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha")?;
+        writeln!(
+            out,
+            "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha"
+        )?;
     }
     writeln!(out, "element face {}", mesh.face_count())?;
     writeln!(out, "property list {count_type} int vertex_indices")?;
