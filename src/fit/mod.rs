@@ -1,1 +1,18 @@
-//! placeholder
+//! The variational problems of the Kouibia–Pasadas papers, written against
+//! `spline::Space`: the generalized offset (2022 (3)), the discrete smoothing spline
+//! (2022 §3, 2024 §3), hole filling with boundary constraints (2022 §4) and the
+//! reproductions of the papers' tables. Each entry point is a function of inputs and an
+//! options struct that returns the solved spline and a report.
+
+pub mod fill;
+pub mod hole;
+pub mod offset;
+pub mod paper_kp2022;
+pub mod smoothing;
+pub mod surface;
+
+pub use fill::{fill_hole, FillOptions, FillReport, FillVariant, HoleFill};
+pub use hole::{Hole, HoleShape};
+pub use offset::{GeneralizedOffset, ParametricSurface};
+pub use smoothing::{smoothing_spline, DerivativeData, SmoothingFit, SmoothingOptions};
+pub use surface::VectorSpline;
