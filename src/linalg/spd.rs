@@ -82,9 +82,9 @@ mod tests {
             }
         }
         let x = solve_spd(n, &e, &[vec![0.0, 0.0, 0.0, 5.0], vec![1.0, 0.0, 0.0, 1.0]]).unwrap();
-        for i in 0..n {
-            assert_near!(x[0][i], (i + 1) as f64, SOLVE);
-            assert_near!(x[1][i], 1.0, SOLVE);
+        for (i, (a, b)) in x[0].iter().zip(&x[1]).enumerate() {
+            assert_near!(*a, (i + 1) as f64, SOLVE);
+            assert_near!(*b, 1.0, SOLVE);
         }
     }
 
