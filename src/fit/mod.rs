@@ -8,6 +8,7 @@ pub mod fill;
 pub mod hole;
 pub mod offset;
 pub mod paper_kp2022;
+pub mod paper_kpo2024;
 pub mod smoothing;
 pub mod surface;
 
