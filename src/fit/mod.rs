@@ -9,6 +9,7 @@ pub mod hole;
 pub mod offset;
 pub mod paper_kp2022;
 pub mod paper_kpo2024;
+pub mod shape;
 pub mod smoothing;
 pub mod surface;
 
