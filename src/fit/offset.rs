@@ -15,6 +15,21 @@ impl<F: Fn(f64, f64) -> [[f64; 3]; 3]> ParametricSurface for F {
     }
 }
 
+/// The unit normal (f_u × f_v)/‖f_u × f_v‖ of a parametric surface (2004 §2, 2022 (2)).
+///
+/// Errors: `InvalidInput` where the surface is not regular.
+pub fn unit_normal<S: ParametricSurface>(s: &S, u: f64, v: f64) -> Result<[f64; 3]> {
+    let [_, fu, fv] = s.eval(u, v);
+    let n = cross(fu, fv);
+    let c = norm(n);
+    if !(c > 0.0 && c.is_finite()) {
+        return Err(Error::InvalidInput(format!(
+            "the surface is not regular at ({u}, {v})"
+        )));
+    }
+    Ok(n.map(|x| x / c))
+}
+
 type Distance = Box<dyn Fn(f64, f64) -> f64 + Send + Sync>;
 
 /// A surface and three offset distances d₁, d₂, d₃ along e₁, e₂ and n.
