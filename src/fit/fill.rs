@@ -15,7 +15,7 @@ use crate::spline::{seminorm_gram, Cell, Space};
 use super::surface::VectorSpline;
 
 /// Which filling problem to solve.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub enum FillVariant {
     /// The paper's σ₂ with the constraints of (14): C⁰ at the boundary knots, C¹ in the
     /// normal direction at the non-corner knots; between knots σ may jump.
@@ -36,7 +36,7 @@ pub struct FillOptions {
 }
 
 /// What the filling did, and how continuous the result is across ∂H_h.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct FillReport {
     /// M₂ + M₃: the equality constraints of (14) (0 for `ExactC1`).
     pub constraints: usize,

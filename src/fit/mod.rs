@@ -5,6 +5,7 @@
 //! reproductions of the papers' tables. Each entry point is a function of inputs and an
 //! options struct that returns the solved spline and a report.
 
+pub mod data;
 pub mod fill;
 pub mod hole;
 pub mod offset;
@@ -12,6 +13,8 @@ pub mod paper_kp2004;
 pub mod paper_kp2022;
 pub mod paper_kpo2024;
 pub mod parallel;
+pub mod pipeline;
+pub mod sample;
 pub mod shape;
 pub mod smoothing;
 pub mod surface;
