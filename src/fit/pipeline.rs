@@ -77,7 +77,28 @@ pub struct FitOutcome {
     pub summary: FitSummary,
 }
 
+/// The solved coefficients, as written to JSON: the space is rebuilt from `summary`
+/// (kind, cells, parameter ranges); σ₂'s coefficients apply on the `hole_cells`.
+#[derive(Debug, Clone, Serialize)]
+pub struct CoefficientsFile<'a> {
+    pub summary: &'a FitSummary,
+    pub sigma1: &'a VectorSpline,
+    pub sigma2: Option<&'a VectorSpline>,
+    /// H_h by cell index i·ny + j (i along u).
+    pub hole_cells: Option<&'a [bool]>,
+}
+
 impl FitOutcome {
+    /// The coefficients for JSON output.
+    pub fn coefficients(&self) -> CoefficientsFile<'_> {
+        CoefficientsFile {
+            summary: &self.summary,
+            sigma1: &self.sigma1,
+            sigma2: self.fill.as_ref().map(|f| &f.sigma2),
+            hole_cells: self.fill.as_ref().map(|f| f.hole_cells.as_slice()),
+        }
+    }
+
     /// σ (the filled surface if there is one, else σ₁) at (u, v).
     ///
     /// Errors: outside the rectangle.
