@@ -154,26 +154,47 @@ pub fn smoothing_spline(
     let mut sys = SparseSym::new(n);
     let mut rhs = vec![vec![0.0; n]; 3];
     let order = derivatives.iter().map(|d| d.a.max(d.b)).max().unwrap_or(0);
+    // 𝒜𝒜ᵀ accumulated per cell in a dense block (the local functions of a cell are fixed),
+    // scattered into the sparse matrix once per cell.
+    let mut blocks: Vec<Option<(Vec<usize>, Vec<f64>)>> = vec![None; grid.cell_count()];
+    let mut vals = vec![];
     for (i, (&c, p)) in cells_of_points.iter().zip(points).enumerate() {
         let lb = space.eval_on_cell(c, p[0], p[1], order);
-        let loc: Vec<usize> = lb.indices.iter().map(|k| local[k]).collect();
+        let nl = lb.indices.len();
+        let (loc, block) = blocks[grid.cell_index(c)].get_or_insert_with(|| {
+            (
+                lb.indices.iter().map(|k| local[k]).collect(),
+                vec![0.0; nl * nl],
+            )
+        });
         let mut add = |a: usize, b: usize, target: &[f64; 3]| {
+            vals.clear();
+            vals.extend((0..nl).map(|l| lb.d(l, a, b)));
             for (l, &gl) in loc.iter().enumerate() {
-                let dl = lb.d(l, a, b);
+                let dl = vals[l];
                 if dl == 0.0 {
                     continue;
                 }
                 for (comp, r) in rhs.iter_mut().enumerate() {
                     r[gl] += dl * target[comp];
                 }
-                for (q, &gq) in loc.iter().enumerate() {
-                    sys.add(gl, gq, dl * lb.d(q, a, b));
+                let row = &mut block[l * nl..(l + 1) * nl];
+                for (x, &dq) in row.iter_mut().zip(vals.iter()) {
+                    *x += dl * dq;
                 }
             }
         };
         add(0, 0, &values[i]);
         for d in derivatives {
             add(d.a, d.b, &d.values[i]);
+        }
+    }
+    for (loc, block) in blocks.into_iter().flatten() {
+        let nl = loc.len();
+        for (l, &gl) in loc.iter().enumerate() {
+            for (q, &gq) in loc.iter().enumerate() {
+                sys.add(gl, gq, block[l * nl + q]);
+            }
         }
     }
     let gram = seminorm_gram(space, opts.m, &domain)?;
@@ -204,7 +225,7 @@ pub fn smoothing_spline(
     })
 }
 
-/// ℙ_{m−1}-unisolvence (2022 (5)): the Vandermonde matrix of the monomials xⁱyʲ,
+/// ℙ_{m−1}-unisolvence (2022 (5)): the Vandermonde matrix V of the monomials xⁱyʲ,
 /// i + j < m, at the points (centred and scaled) has full column rank.
 fn check_unisolvent(points: &[[f64; 2]], m: usize) -> Result<()> {
     let monomials: Vec<(i32, i32)> = (0..m as i32)
@@ -227,18 +248,27 @@ fn check_unisolvent(points: &[[f64; 2]], m: usize) -> Result<()> {
             s.max((p[0] - cx).abs()).max((p[1] - cy).abs())
         })
         .max(f64::MIN_POSITIVE);
-    let mut v = faer::Mat::<f64>::zeros(points.len(), q);
-    for (r, p) in points.iter().enumerate() {
+    // VᵀV (q × q, q ≤ 10) instead of V itself: its eigenvalues are σᵢ². They carry an
+    // absolute error ~ ε_machine·λ_max, so rank deficiency is declared below k·ε·λ_max.
+    let mut gram = faer::Mat::<f64>::zeros(q, q);
+    let mut row = vec![0.0; q];
+    for p in points {
         let (x, y) = ((p[0] - cx) / scale, (p[1] - cy) / scale);
         for (c, &(i, j)) in monomials.iter().enumerate() {
-            v[(r, c)] = x.powi(i) * y.powi(j);
+            row[c] = x.powi(i) * y.powi(j);
+        }
+        for a in 0..q {
+            for b in 0..q {
+                gram[(a, b)] += row[a] * row[b];
+            }
         }
     }
-    let svd = v.thin_svd().map_err(|e| Error::Solver {
-        failure: crate::error::SolverFailure::NotConverged,
-        detail: format!("SVD of the Vandermonde matrix: {e:?}"),
-    })?;
-    let s: Vec<f64> = svd.S().column_vector().iter().copied().collect();
+    let s: Vec<f64> = gram
+        .self_adjoint_eigenvalues(faer::Side::Lower)
+        .map_err(|e| Error::Solver {
+            failure: crate::error::SolverFailure::NotConverged,
+            detail: format!("eigenvalues of the Vandermonde Gram matrix: {e:?}"),
+        })?;
     let smax = s.iter().copied().fold(0.0, f64::max);
     let thresh = points.len().max(q) as f64 * f64::EPSILON * smax;
     if s.iter().any(|&x| x <= thresh) {
