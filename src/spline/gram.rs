@@ -3,19 +3,18 @@
 //! multi-indices β = (β₁, β₂), so the mixed derivative counts once, without a binomial
 //! weight — the papers' definition).
 
-use std::collections::HashMap;
-
 use super::grid::Cell;
 use super::quadrature::GaussLegendre;
 use super::space::Space;
 use crate::error::{Error, Result};
 
-/// A symmetric sparse matrix as merged (row, col, value) entries, both triangles stored.
+/// A symmetric sparse matrix as (row, col, value) entries, both triangles stored. Entries
+/// are appended (cheap in assembly loops) and merged when read.
 #[derive(Debug, Clone, Default)]
 pub struct SparseSym {
     /// Order of the matrix.
     pub n: usize,
-    entries: HashMap<(usize, usize), f64>,
+    entries: Vec<(usize, usize, f64)>,
 }
 
 impl SparseSym {
@@ -23,33 +22,41 @@ impl SparseSym {
     pub fn new(n: usize) -> Self {
         Self {
             n,
-            entries: HashMap::new(),
+            entries: Vec::new(),
         }
     }
 
     /// Adds v to entry (i, j) only (callers add both triangles).
     pub fn add(&mut self, i: usize, j: usize, v: f64) {
-        *self.entries.entry((i, j)).or_insert(0.0) += v;
+        self.entries.push((i, j, v));
     }
 
-    /// Entry (i, j).
+    /// Entry (i, j) (a linear scan: for checks, not for loops).
     pub fn get(&self, i: usize, j: usize) -> f64 {
-        self.entries.get(&(i, j)).copied().unwrap_or(0.0)
+        self.entries
+            .iter()
+            .filter(|&&(a, b, _)| a == i && b == j)
+            .map(|e| e.2)
+            .sum()
     }
 
-    /// The entries sorted by (row, col).
+    /// The entries merged and sorted by (row, col).
     pub fn triplets(&self) -> Vec<(usize, usize, f64)> {
-        let mut v: Vec<_> = self.entries.iter().map(|(&(i, j), &x)| (i, j, x)).collect();
-        v.sort_by_key(|&(i, j, _)| (i, j));
-        v
+        let mut v = self.entries.clone();
+        v.sort_unstable_by_key(|&(i, j, _)| (i, j));
+        let mut out: Vec<(usize, usize, f64)> = Vec::with_capacity(v.len());
+        for (i, j, x) in v {
+            match out.last_mut() {
+                Some(last) if last.0 == i && last.1 == j => last.2 += x,
+                _ => out.push((i, j, x)),
+            }
+        }
+        out
     }
 
     /// cᵀ A c.
     pub fn quadratic_form(&self, c: &[f64]) -> f64 {
-        self.entries
-            .iter()
-            .map(|(&(i, j), &x)| c[i] * x * c[j])
-            .sum()
+        self.entries.iter().map(|&(i, j, x)| c[i] * x * c[j]).sum()
     }
 }
 
