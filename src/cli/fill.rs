@@ -1,10 +1,11 @@
-//! `surfkit fill`: fits a smoothing spline to scattered (u, v, x, y, z) data from a CSV and
+//! `surfkit fill`: fits a smoothing spline to scattered (u, v, x, y, z) data from a CSV or a
+//! mesh and
 //! fills its holes (2022 §4); writes a sampled mesh (PLY/OBJ/OFF, fit error as per-vertex
 //! quality), the coefficients (JSON) and a report. Without a hole it is `surfkit fit`.
 
 use std::path::PathBuf;
 
-use crate::fit::data::read_csv;
+use crate::fit::data::{from_mesh, read_csv};
 use crate::fit::fill::FillVariant;
 use crate::fit::hole::{Hole, HoleShape};
 use crate::fit::pipeline::{fit_and_fill, FitSetup, HoleSource, SpaceKind};
@@ -24,7 +25,8 @@ pub enum SpaceArg {
 /// Arguments of `surfkit fill`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct FillArgs {
-    /// CSV with lines u,v,x,y,z (a header line is allowed).
+    /// CSV with lines u,v,x,y,z (a header line is allowed), or a mesh (.ply/.obj/.off):
+    /// with UVs, (u, v) are its texture coordinates; without, it is a height field (u, v) = (x, y).
     pub input: PathBuf,
     /// The spline space.
     #[arg(long, value_enum, default_value = "biquadratic")]
@@ -130,7 +132,16 @@ pub fn run(args: &FillArgs) -> Result<()> {
             FillVariant::Paper
         },
     };
-    let data = read_csv(&args.input)?;
+    let is_csv = args
+        .input
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+    let data = if is_csv {
+        read_csv(&args.input)?
+    } else {
+        from_mesh(&crate::mesh::io::read(&args.input)?)?
+    };
     let out = fit_and_fill(&data, &setup)?;
     if let Some(path) = &args.output {
         let mesh = out.mesh(&data, args.resolution)?;

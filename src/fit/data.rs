@@ -1,9 +1,13 @@
 //! Reading users' scattered data: CSV lines `u,v,x,y,z` (a header line is skipped,
-//! `#` starts a comment).
+//! `#` starts a comment), or a mesh — with texture coordinates as (u, v), or else as a
+//! height field with (u, v) = (x, y).
 
 use std::path::Path;
 
+use std::collections::HashSet;
+
 use crate::error::{Error, Location, Result};
+use crate::mesh::PolygonMesh;
 
 /// Parameters (u, v) and points (x, y, z).
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -58,9 +62,78 @@ pub fn read_csv(path: &Path) -> Result<ScatteredData> {
     parse_csv(path, &text)
 }
 
+/// The data of a mesh: one point per distinct (vertex, texture coordinate) pair when the
+/// mesh has UVs (a vertex on a UV seam gives one datum per side), else one per vertex with
+/// (u, v) = (x, y) (a height field).
+///
+/// Errors: `InvalidInput` for a mesh without vertices, with non-finite coordinates, or
+/// with UV indices out of range.
+pub fn from_mesh(mesh: &PolygonMesh) -> Result<ScatteredData> {
+    let mut d = ScatteredData::default();
+    if mesh.positions.iter().flatten().any(|x| !x.is_finite()) {
+        return Err(Error::InvalidInput(
+            "mesh has a non-finite vertex coordinate".into(),
+        ));
+    }
+    match &mesh.uvs {
+        Some(uv) => {
+            if uv.corner_indices.len() != mesh.face_indices.len() {
+                return Err(Error::InvalidInput(
+                    "mesh UVs do not match its face corners".into(),
+                ));
+            }
+            let mut seen = HashSet::new();
+            for (&v, &t) in mesh.face_indices.iter().zip(&uv.corner_indices) {
+                let (p, q) = (mesh.positions.get(v as usize), uv.coords.get(t as usize));
+                let (Some(p), Some(q)) = (p, q) else {
+                    return Err(Error::InvalidInput(format!(
+                        "corner (vertex {v}, uv {t}) out of range"
+                    )));
+                };
+                if seen.insert((v, t)) {
+                    d.params.push(*q);
+                    d.points.push(*p);
+                }
+            }
+        }
+        None => {
+            for p in &mesh.positions {
+                d.params.push([p[0], p[1]]);
+                d.points.push(*p);
+            }
+        }
+    }
+    if d.params.is_empty() {
+        return Err(Error::InvalidInput(
+            "the mesh has no vertices to fit".into(),
+        ));
+    }
+    Ok(d)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn mesh_as_height_field_and_with_uvs() {
+        let m = PolygonMesh::from_polygons(
+            vec![[0.0, 0.0, 1.0], [1.0, 0.0, 2.0], [0.0, 1.0, 3.0]],
+            &[[0u32, 1, 2]],
+        );
+        let d = from_mesh(&m).unwrap();
+        assert_eq!(d.params, vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]);
+        let mut m2 = m.clone();
+        m2.uvs = Some(crate::mesh::CornerUvs {
+            coords: vec![[0.5, 0.5], [0.7, 0.1]],
+            corner_indices: vec![0, 1, 1],
+        });
+        let d = from_mesh(&m2).unwrap();
+        assert_eq!(d.params, vec![[0.5, 0.5], [0.7, 0.1], [0.7, 0.1]]);
+        assert_eq!(d.points[2], [0.0, 1.0, 3.0]);
+        m2.uvs.as_mut().unwrap().corner_indices = vec![0, 1, 5];
+        assert!(from_mesh(&m2).is_err());
+    }
 
     #[test]
     fn header_comments_and_errors() {
