@@ -6,9 +6,10 @@
 use std::path::PathBuf;
 
 use crate::fit::data::{from_mesh, read_csv};
+use crate::fit::expr::Expr;
 use crate::fit::fill::FillVariant;
 use crate::fit::hole::{Hole, HoleShape};
-use crate::fit::pipeline::{fit_and_fill, FitSetup, HoleSource, SpaceKind};
+use crate::fit::pipeline::{fit_and_fill, offset_data, FitSetup, HoleSource, SpaceKind};
 use crate::{Error, Result};
 
 /// The spline space.
@@ -48,6 +49,11 @@ pub struct FillArgs {
     /// paper's boundary constraints.
     #[arg(long)]
     pub exact_c1: bool,
+    /// Fit the generalized offset f + d₁e₁ + d₂e₂ + d₃n of the data's surface instead of the
+    /// surface: `d1;d2;d3` as expressions in u and v (evalexpr syntax, e.g.
+    /// `0.2*math::sin(u-v);0;-0.1`). The frame comes from a first fit of the data.
+    #[arg(long)]
+    pub offset: Option<String>,
     /// Sampled mesh to write (.ply, .obj or .off).
     #[arg(long)]
     pub output: Option<PathBuf>,
@@ -141,6 +147,24 @@ pub fn run(args: &FillArgs) -> Result<()> {
         read_csv(&args.input)?
     } else {
         from_mesh(&crate::mesh::io::read(&args.input)?)?
+    };
+    let data = match &args.offset {
+        Some(spec) => {
+            let parts: Vec<&str> = spec.split(';').collect();
+            if parts.len() != 3 {
+                return Err(Error::InvalidInput(format!(
+                    "--offset {spec:?}: expected three expressions d1;d2;d3"
+                )));
+            }
+            let d: Vec<Expr> = parts
+                .iter()
+                .map(|p| Expr::parse(p))
+                .collect::<Result<_>>()?;
+            offset_data(&data, &setup, &|u, v| {
+                Ok([d[0].eval(u, v)?, d[1].eval(u, v)?, d[2].eval(u, v)?])
+            })?
+        }
+        None => data,
     };
     let out = fit_and_fill(&data, &setup)?;
     if let Some(path) = &args.output {

@@ -6,6 +6,7 @@
 //! options struct that returns the solved spline and a report.
 
 pub mod data;
+pub mod expr;
 pub mod fill;
 pub mod hole;
 pub mod offset;

@@ -257,6 +257,48 @@ pub fn fit_and_fill(data: &ScatteredData, setup: &FitSetup) -> Result<FitOutcome
     Ok(out)
 }
 
+/// The data of a generalized offset of the surface the data sample (2022 (3)): fits σ_f
+/// to the data (no hole), takes the frame (e₁, e₂, n) of σ_f at each parameter (2022 (2))
+/// and returns pₐ + d₁e₁ + d₂e₂ + d₃n with `distances(u, v) = (d₁, d₂, d₃)`.
+///
+/// Errors: those of [`fit_and_fill`]; `InvalidInput` where σ_f is not regular or a
+/// distance fails.
+pub fn offset_data(
+    data: &ScatteredData,
+    setup: &FitSetup,
+    distances: &dyn Fn(f64, f64) -> Result<[f64; 3]>,
+) -> Result<ScatteredData> {
+    let base = fit_and_fill(
+        data,
+        &FitSetup {
+            hole: HoleSource::None,
+            ..setup.clone()
+        },
+    )?;
+    let space = base.space.as_ref();
+    let mut out = ScatteredData::default();
+    for (p, x) in data.params.iter().zip(&data.points) {
+        let fu = base.sigma1.eval(space, p[0], p[1], 1, 0)?;
+        let fv = base.sigma1.eval(space, p[0], p[1], 0, 1)?;
+        let surface = move |_: f64, _: f64| [*x, fu, fv];
+        let frame = super::offset::GeneralizedOffset {
+            surface,
+            distances: [
+                Box::new(|_, _| 0.0),
+                Box::new(|_, _| 0.0),
+                Box::new(|_, _| 0.0),
+            ],
+        }
+        .frame(p[0], p[1])?;
+        let d = distances(p[0], p[1])?;
+        out.params.push(*p);
+        out.points.push(std::array::from_fn(|k| {
+            x[k] + d[0] * frame[0][k] + d[1] * frame[1][k] + d[2] * frame[2][k]
+        }));
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -291,6 +333,33 @@ mod tests {
             crate::assert_near!(s[2], 1.0 + 0.5 - 1.0, SOLVE);
             let m = out.mesh(&d, 8).unwrap();
             assert_eq!(m.vertex_count(), 81);
+        }
+    }
+
+    #[test]
+    fn normal_offset_of_a_plane_is_a_shifted_plane() {
+        // f(u, v) = (u, v, 0.5u): n = (−0.5, 0, 1)/√1.25; d₃ = 0.1 shifts every point by 0.1n.
+        let mut d = ScatteredData::default();
+        for i in 0..15 {
+            for j in 0..15 {
+                let (u, v) = (i as f64 / 14.0, j as f64 / 14.0);
+                d.params.push([u, v]);
+                d.points.push([u, v, 0.5 * u]);
+            }
+        }
+        let setup = FitSetup {
+            space: SpaceKind::Biquadratic,
+            cells: [3, 3],
+            epsilon: 1e-9,
+            hole: HoleSource::None,
+            variant: FillVariant::Paper,
+        };
+        let o = offset_data(&d, &setup, &|_, _| Ok([0.0, 0.0, 0.1])).unwrap();
+        let s = 0.1 / 1.25f64.sqrt();
+        for (p, q) in d.points.iter().zip(&o.points) {
+            crate::assert_near!(q[0] - p[0], -0.5 * s, SOLVE);
+            crate::assert_near!(q[1] - p[1], 0.0, SOLVE);
+            crate::assert_near!(q[2] - p[2], s, SOLVE);
         }
     }
 
