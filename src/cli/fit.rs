@@ -136,12 +136,6 @@ pub fn run(args: &FitArgs) -> Result<()> {
         s.rms_misfit,
         s.max_misfit
     );
-    if s.empty_cells > 0 {
-        println!(
-            "  warning: {} cells hold no data; the spline there comes from the smoothing term only (use `surfkit fill`)",
-            s.empty_cells
-        );
-    }
     for p in args.output.iter().chain(&args.coefficients) {
         println!("  wrote {}", p.display());
     }

@@ -150,7 +150,8 @@ fn range(v: impl Iterator<Item = f64>) -> [f64; 2] {
 /// Fits σ₁ to the data on the parameter rectangle and fills the hole if any.
 ///
 /// Errors: `InvalidInput` for fewer than 1 cell per side, a degenerate parameter range,
-/// ε ≤ 0, or the ill-posed cases of [`smoothing_spline`] and [`fill_hole`] (too few or
+/// ε ≤ 0, a cell outside the hole without data (too few points to determine the spline
+/// there), or the ill-posed cases of [`smoothing_spline`] and [`fill_hole`] (too few or
 /// collinear points, a hole covering every cell, …); solver errors.
 pub fn fit_and_fill(data: &ScatteredData, setup: &FitSetup) -> Result<FitOutcome> {
     if setup.cells[0] == 0 || setup.cells[1] == 0 {
@@ -208,6 +209,22 @@ pub fn fit_and_fill(data: &ScatteredData, setup: &FitSetup) -> Result<FitOutcome
             }
         }
     };
+    // Ill-posed: a cell outside the hole without data is determined by the smoothing term
+    // alone — refuse it rather than return an unsupported surface.
+    let empty = cells_without_data(&grid, &data.params);
+    if let Some(c) = empty
+        .iter()
+        .find(|c| mask.as_ref().is_none_or(|m| !m[grid.cell_index(**c)]))
+    {
+        return Err(Error::InvalidInput(format!(
+            "{} cell(s) outside any hole hold no data point (first: cell ({}, {}) of {}×{}): use fewer cells or fill them as a hole",
+            empty.iter().filter(|c| mask.as_ref().is_none_or(|m| !m[grid.cell_index(**c)])).count(),
+            c.i,
+            c.j,
+            setup.cells[0],
+            setup.cells[1]
+        )));
+    }
     let fill = match &mask {
         Some(m) => Some(fill_hole(
             space.as_ref(),
