@@ -9,10 +9,13 @@
 pub mod cli;
 pub mod error;
 mod ffi;
+pub mod fit;
 pub mod halfedge;
+pub mod linalg;
 pub mod mesh;
 pub mod report;
 pub mod shapes;
+pub mod spline;
 pub mod subdiv;
 pub mod tolerance;
 pub mod topology;

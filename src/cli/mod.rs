@@ -3,8 +3,11 @@
 mod convert;
 mod demo;
 mod eat;
+mod fill;
+mod fit;
 mod info;
 mod limit;
+mod paper;
 mod subdivide;
 
 use std::process::ExitCode;
@@ -32,6 +35,12 @@ enum Command {
     Subdivide(subdivide::SubdivideArgs),
     /// Limit-surface samples with mean curvature as quality (a curvature map for MeshLab).
     Limit(limit::LimitArgs),
+    /// Fits a smoothing spline to scattered (u, v, x, y, z) data and fills its holes.
+    Fill(fill::FillArgs),
+    /// Fits a smoothing spline to scattered (u, v, x, y, z) data.
+    Fit(fit::FitArgs),
+    /// Reruns a table or example of the Kouibia–Pasadas papers next to the paper's values.
+    Paper(paper::PaperArgs),
     /// Runs surfkit on its built-in example and writes the results to a folder.
     Demo(demo::DemoArgs),
 }
@@ -46,6 +55,9 @@ pub fn main() -> ExitCode {
         Command::Eat(a) => eat::run(a),
         Command::Subdivide(a) => subdivide::run(a).map(|()| ExitCode::SUCCESS),
         Command::Limit(a) => limit::run(a).map(|()| ExitCode::SUCCESS),
+        Command::Fill(a) => fill::run(a).map(|()| ExitCode::SUCCESS),
+        Command::Fit(a) => fit::run(a).map(|()| ExitCode::SUCCESS),
+        Command::Paper(a) => paper::run(a).map(|()| ExitCode::SUCCESS),
     };
     match result {
         Ok(code) => code,

@@ -1,0 +1,218 @@
+//! `surfkit fill`: fits a smoothing spline to scattered (u, v, x, y, z) data from a CSV or a
+//! mesh and
+//! fills its holes (2022 §4); writes a sampled mesh (PLY/OBJ/OFF, fit error as per-vertex
+//! quality), the coefficients (JSON) and a report. Without a hole it is `surfkit fit`.
+
+use std::path::PathBuf;
+
+use crate::fit::data::{from_mesh, read_csv};
+use crate::fit::expr::Expr;
+use crate::fit::fill::FillVariant;
+use crate::fit::hole::{Hole, HoleShape};
+use crate::fit::pipeline::{fit_and_fill, offset_data, FitSetup, HoleSource, SpaceKind};
+use crate::{Error, Result};
+
+/// The spline space.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpaceArg {
+    /// Biquadratic C¹ B-splines (2022).
+    Biquadratic,
+    /// Bicubic C² B-splines.
+    Bicubic,
+    /// Bogner–Fox–Schmit C¹ (2024).
+    BfsC1,
+}
+
+/// Arguments of `surfkit fill`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct FillArgs {
+    /// CSV with lines u,v,x,y,z (a header line is allowed), or a mesh (.ply/.obj/.off):
+    /// with UVs, (u, v) are its texture coordinates; without, it is a height field (u, v) = (x, y).
+    pub input: PathBuf,
+    /// The spline space.
+    #[arg(long, value_enum, default_value = "biquadratic")]
+    pub space: SpaceArg,
+    /// Cells along u and v, as NU,NV.
+    #[arg(long, default_value = "8,8")]
+    pub cells: String,
+    /// The smoothing parameter ε > 0.
+    #[arg(long, default_value_t = 1e-9)]
+    pub epsilon: f64,
+    /// A hole component: `ellipse:cx,cy,a,b,level` for a(u−cx)² + b(v−cy)² ≤ level, or
+    /// `polygon:u1,v1,u2,v2,…`. Repeatable.
+    #[arg(long)]
+    pub hole: Vec<String>,
+    /// Take the cells without data as the hole.
+    #[arg(long)]
+    pub hole_from_data: bool,
+    /// Keep σ in the spline space exactly (C¹ across the hole's border) instead of the
+    /// paper's boundary constraints.
+    #[arg(long)]
+    pub exact_c1: bool,
+    /// Fit the generalized offset f + d₁e₁ + d₂e₂ + d₃n of the data's surface instead of the
+    /// surface: `d1;d2;d3` as expressions in u and v (evalexpr syntax, e.g.
+    /// `0.2*math::sin(u-v);0;-0.1`). The frame comes from a first fit of the data.
+    #[arg(long)]
+    pub offset: Option<String>,
+    /// Sampled mesh to write (.ply, .obj or .off).
+    #[arg(long)]
+    pub output: Option<PathBuf>,
+    /// Coefficients to write (.json).
+    #[arg(long)]
+    pub coefficients: Option<PathBuf>,
+    /// Samples per side of the mesh.
+    #[arg(long, default_value_t = 64)]
+    pub resolution: usize,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn numbers(s: &str, what: &str) -> Result<Vec<f64>> {
+    s.split(',')
+        .map(|t| {
+            t.trim()
+                .parse::<f64>()
+                .map_err(|_| Error::InvalidInput(format!("{what}: {t:?} is not a number")))
+        })
+        .collect()
+}
+
+fn hole_shape(spec: &str) -> Result<HoleShape> {
+    let (kind, rest) = spec.split_once(':').ok_or_else(|| {
+        Error::InvalidInput(format!("hole {spec:?}: expected ellipse:… or polygon:…"))
+    })?;
+    let v = numbers(rest, &format!("hole {spec:?}"))?;
+    match kind {
+        "ellipse" if v.len() == 5 => Ok(HoleShape::Ellipse {
+            center: [v[0], v[1]],
+            coeffs: [v[2], v[3]],
+            level: v[4],
+        }),
+        "polygon" if v.len() >= 6 && v.len() % 2 == 0 => Ok(HoleShape::Polygon(
+            v.chunks(2).map(|c| [c[0], c[1]]).collect(),
+        )),
+        _ => Err(Error::InvalidInput(format!(
+            "hole {spec:?}: ellipse needs 5 numbers, polygon an even count ≥ 6"
+        ))),
+    }
+}
+
+/// Runs the fit and fill and writes the outputs.
+///
+/// Errors: unreadable or malformed input (named by file and line), bad arguments,
+/// ill-posed problems (too few points, a hole covering everything, ε ≤ 0), write failures.
+pub fn run(args: &FillArgs) -> Result<()> {
+    let cells = numbers(&args.cells, "--cells")?;
+    if cells.len() != 2 || cells.iter().any(|&c| !(c >= 1.0 && c.fract() == 0.0)) {
+        return Err(Error::InvalidInput(format!(
+            "--cells {:?}: expected NU,NV ≥ 1",
+            args.cells
+        )));
+    }
+    let hole = if args.hole_from_data {
+        HoleSource::CellsWithoutData
+    } else if args.hole.is_empty() {
+        HoleSource::None
+    } else {
+        HoleSource::Shapes(Hole {
+            shapes: args
+                .hole
+                .iter()
+                .map(|s| hole_shape(s))
+                .collect::<Result<_>>()?,
+        })
+    };
+    let setup = FitSetup {
+        space: match args.space {
+            SpaceArg::Biquadratic => SpaceKind::Biquadratic,
+            SpaceArg::Bicubic => SpaceKind::Bicubic,
+            SpaceArg::BfsC1 => SpaceKind::BfsC1,
+        },
+        cells: [cells[0] as usize, cells[1] as usize],
+        epsilon: args.epsilon,
+        hole,
+        variant: if args.exact_c1 {
+            FillVariant::ExactC1
+        } else {
+            FillVariant::Paper
+        },
+    };
+    let is_csv = args
+        .input
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+    let data = if is_csv {
+        read_csv(&args.input)?
+    } else {
+        from_mesh(&crate::mesh::io::read(&args.input)?)?
+    };
+    let data = match &args.offset {
+        Some(spec) => {
+            let parts: Vec<&str> = spec.split(';').collect();
+            if parts.len() != 3 {
+                return Err(Error::InvalidInput(format!(
+                    "--offset {spec:?}: expected three expressions d1;d2;d3"
+                )));
+            }
+            let d: Vec<Expr> = parts
+                .iter()
+                .map(|p| Expr::parse(p))
+                .collect::<Result<_>>()?;
+            offset_data(&data, &setup, &|u, v| {
+                Ok([d[0].eval(u, v)?, d[1].eval(u, v)?, d[2].eval(u, v)?])
+            })?
+        }
+        None => data,
+    };
+    let out = fit_and_fill(&data, &setup)?;
+    if let Some(path) = &args.output {
+        let mesh = out.mesh(&data, args.resolution)?;
+        crate::mesh::io::write(path, &mesh, &crate::mesh::io::WriteOptions::default())?;
+    }
+    if let Some(path) = &args.coefficients {
+        let text = serde_json::to_string(&out.coefficients())
+            .map_err(|e| Error::InvalidInput(format!("JSON: {e}")))?;
+        crate::mesh::io::write_atomically(path, |w| w.write_all(text.as_bytes()))?;
+    }
+    let s = &out.summary;
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string(s).map_err(|e| Error::InvalidInput(format!("JSON: {e}")))?
+        );
+        return Ok(());
+    }
+    println!(
+        "{}: {} points, {:?} on {}×{} cells of [{:.4}, {:.4}]×[{:.4}, {:.4}], ε = {:e}",
+        args.input.display(),
+        s.points,
+        s.space,
+        s.cells[0],
+        s.cells[1],
+        s.u_range[0],
+        s.u_range[1],
+        s.v_range[0],
+        s.v_range[1],
+        s.epsilon
+    );
+    println!(
+        "  misfit at the data: rms {:.3e}, max {:.3e}; {} cells without data",
+        s.rms_misfit, s.max_misfit, s.empty_cells
+    );
+    match &s.fill {
+        Some(f) => println!(
+            "  hole: {} cells, {} constraints (rank {}), jumps across its border C⁰ {:.2e}, C¹ {:.2e}",
+            s.hole_cells, f.constraints, f.constraint_rank, f.c0_jump, f.c1_jump
+        ),
+        None => println!("  no hole filled"),
+    }
+    if let Some(p) = &args.output {
+        println!("  wrote {}", p.display());
+    }
+    if let Some(p) = &args.coefficients {
+        println!("  wrote {}", p.display());
+    }
+    Ok(())
+}

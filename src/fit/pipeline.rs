@@ -1,0 +1,419 @@
+//! The users' pipeline behind `surfkit fit` / `surfkit fill`: scattered (u, v) → (x, y, z)
+//! data, a spline space on the data's parameter rectangle, the smoothing spline σ₁
+//! (2022 (8)) and, when a hole is given or read off the data, the filled σ (2022 §4).
+
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+use crate::mesh::PolygonMesh;
+use crate::spline::{Grid, Partition, Space, TensorSpace};
+
+use super::data::ScatteredData;
+use super::fill::{fill_hole, FillOptions, FillReport, FillVariant, HoleFill};
+use super::hole::{cells_without_data, Hole, HoleShape};
+use super::sample::sample_mesh;
+use super::smoothing::{smoothing_spline, SmoothingOptions};
+use super::surface::VectorSpline;
+
+/// The spline space to fit with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum SpaceKind {
+    /// Biquadratic C¹ B-splines, S₂(Tₙ, Tₘ) (2022).
+    Biquadratic,
+    /// Bicubic C² B-splines.
+    Bicubic,
+    /// Bogner–Fox–Schmit C¹ (2024).
+    BfsC1,
+}
+
+/// Where the hole is.
+#[derive(Debug, Clone, PartialEq)]
+pub enum HoleSource {
+    /// No hole: fit only.
+    None,
+    /// Given shapes.
+    Shapes(Hole),
+    /// The cells that hold no data point.
+    CellsWithoutData,
+}
+
+/// The setup of a fit.
+#[derive(Debug, Clone)]
+pub struct FitSetup {
+    pub space: SpaceKind,
+    /// Cells along u and v.
+    pub cells: [usize; 2],
+    /// ε > 0 for σ₁ and σ₂.
+    pub epsilon: f64,
+    pub hole: HoleSource,
+    pub variant: FillVariant,
+}
+
+/// What the pipeline did.
+#[derive(Debug, Clone, Serialize)]
+pub struct FitSummary {
+    pub points: usize,
+    pub space: SpaceKind,
+    pub cells: [usize; 2],
+    pub dimension_per_component: usize,
+    pub epsilon: f64,
+    pub u_range: [f64; 2],
+    pub v_range: [f64; 2],
+    /// RMS and max of ‖σ(a) − pₐ‖ over the data.
+    pub rms_misfit: f64,
+    pub max_misfit: f64,
+    /// Cells without data (determined by the semi-norm only).
+    pub empty_cells: usize,
+    /// Cells of H_h (0 without a hole).
+    pub hole_cells: usize,
+    pub fill: Option<FillReport>,
+}
+
+/// The solved surfaces.
+pub struct FitOutcome {
+    pub space: Box<dyn Space>,
+    pub sigma1: VectorSpline,
+    pub fill: Option<HoleFill>,
+    pub summary: FitSummary,
+}
+
+/// The solved coefficients, as written to JSON: the space is rebuilt from `summary`
+/// (kind, cells, parameter ranges); σ₂'s coefficients apply on the `hole_cells`.
+#[derive(Debug, Clone, Serialize)]
+pub struct CoefficientsFile<'a> {
+    pub summary: &'a FitSummary,
+    pub sigma1: &'a VectorSpline,
+    pub sigma2: Option<&'a VectorSpline>,
+    /// H_h by cell index i·ny + j (i along u).
+    pub hole_cells: Option<&'a [bool]>,
+}
+
+impl FitOutcome {
+    /// The coefficients for JSON output.
+    pub fn coefficients(&self) -> CoefficientsFile<'_> {
+        CoefficientsFile {
+            summary: &self.summary,
+            sigma1: &self.sigma1,
+            sigma2: self.fill.as_ref().map(|f| &f.sigma2),
+            hole_cells: self.fill.as_ref().map(|f| f.hole_cells.as_slice()),
+        }
+    }
+
+    /// σ (the filled surface if there is one, else σ₁) at (u, v).
+    ///
+    /// Errors: outside the rectangle.
+    pub fn eval(&self, u: f64, v: f64) -> Result<[f64; 3]> {
+        match &self.fill {
+            Some(f) => f.eval(self.space.as_ref(), u, v, 0, 0),
+            None => self.sigma1.eval(self.space.as_ref(), u, v, 0, 0),
+        }
+    }
+
+    /// A res × res quad mesh of σ, quality = RMS misfit of the data in each vertex's cell
+    /// (0 in cells without data).
+    ///
+    /// Errors: as [`sample_mesh`].
+    pub fn mesh(&self, data: &ScatteredData, res: usize) -> Result<PolygonMesh> {
+        let g = self.space.grid();
+        let mut sq = vec![0.0; g.cell_count()];
+        let mut count = vec![0usize; g.cell_count()];
+        for (p, x) in data.params.iter().zip(&data.points) {
+            let c = g
+                .locate(p[0], p[1])
+                .ok_or_else(|| Error::InvalidInput("data point outside".into()))?;
+            let s = self.eval(p[0], p[1])?;
+            sq[g.cell_index(c)] += (0..3).map(|k| (s[k] - x[k]).powi(2)).sum::<f64>();
+            count[g.cell_index(c)] += 1;
+        }
+        let q = |u: f64, v: f64| -> Result<f64> {
+            let c = g
+                .locate(u, v)
+                .ok_or_else(|| Error::InvalidInput("outside".into()))?;
+            let k = g.cell_index(c);
+            Ok(if count[k] == 0 {
+                0.0
+            } else {
+                (sq[k] / count[k] as f64).sqrt()
+            })
+        };
+        let (u, v) = g.bounds();
+        sample_mesh(u, v, res, &|a, b| self.eval(a, b), Some(&q))
+    }
+}
+
+fn range(v: impl Iterator<Item = f64>) -> [f64; 2] {
+    v.fold([f64::INFINITY, f64::NEG_INFINITY], |r, x| {
+        [r[0].min(x), r[1].max(x)]
+    })
+}
+
+/// Fits σ₁ to the data on the parameter rectangle and fills the hole if any.
+///
+/// Errors: `InvalidInput` for fewer than 1 cell per side, a degenerate parameter range,
+/// ε ≤ 0, a cell outside the hole without data (too few points to determine the spline
+/// there), or the ill-posed cases of [`smoothing_spline`] and [`fill_hole`] (too few or
+/// collinear points, a hole covering every cell, …); solver errors.
+pub fn fit_and_fill(data: &ScatteredData, setup: &FitSetup) -> Result<FitOutcome> {
+    if setup.cells[0] == 0 || setup.cells[1] == 0 {
+        return Err(Error::InvalidInput(
+            "need at least one cell per side".into(),
+        ));
+    }
+    if data.params.len() != data.points.len() || data.params.is_empty() {
+        return Err(Error::InvalidInput(
+            "no data, or parameters and points of different counts".into(),
+        ));
+    }
+    let u = range(data.params.iter().map(|p| p[0]));
+    let v = range(data.params.iter().map(|p| p[1]));
+    if !(u[0] < u[1] && v[0] < v[1]) {
+        return Err(Error::InvalidInput(format!(
+            "the parameters span a degenerate rectangle {u:?} × {v:?}"
+        )));
+    }
+    let (px, py) = (
+        Partition::uniform(u[0], u[1], setup.cells[0])?,
+        Partition::uniform(v[0], v[1], setup.cells[1])?,
+    );
+    let space: Box<dyn Space> = match setup.space {
+        SpaceKind::Biquadratic => Box::new(TensorSpace::bspline(px, py, 2)?),
+        SpaceKind::Bicubic => Box::new(TensorSpace::bspline(px, py, 3)?),
+        SpaceKind::BfsC1 => Box::new(TensorSpace::bfs_c1(px, py)?),
+    };
+    let grid: Grid = space.grid().clone();
+    let fit = smoothing_spline(
+        space.as_ref(),
+        &data.params,
+        &data.points,
+        &[],
+        &SmoothingOptions {
+            epsilon: setup.epsilon,
+            m: 2,
+            domain: None,
+        },
+    )?;
+    let mask = match &setup.hole {
+        HoleSource::None => None,
+        HoleSource::Shapes(h) => Some(h.cells(&grid)?),
+        HoleSource::CellsWithoutData => {
+            let cells = cells_without_data(&grid, &data.params);
+            if cells.is_empty() {
+                None
+            } else {
+                Some(
+                    Hole {
+                        shapes: vec![HoleShape::Cells(cells)],
+                    }
+                    .cells(&grid)?,
+                )
+            }
+        }
+    };
+    // Ill-posed: a cell outside the hole without data is determined by the smoothing term
+    // alone — refuse it rather than return an unsupported surface.
+    let empty = cells_without_data(&grid, &data.params);
+    if let Some(c) = empty
+        .iter()
+        .find(|c| mask.as_ref().is_none_or(|m| !m[grid.cell_index(**c)]))
+    {
+        return Err(Error::InvalidInput(format!(
+            "{} cell(s) outside any hole hold no data point (first: cell ({}, {}) of {}×{}): use fewer cells or fill them as a hole",
+            empty.iter().filter(|c| mask.as_ref().is_none_or(|m| !m[grid.cell_index(**c)])).count(),
+            c.i,
+            c.j,
+            setup.cells[0],
+            setup.cells[1]
+        )));
+    }
+    let fill = match &mask {
+        Some(m) => Some(fill_hole(
+            space.as_ref(),
+            &fit.spline,
+            &data.params,
+            m,
+            &FillOptions {
+                epsilon: setup.epsilon,
+                m: 2,
+                variant: setup.variant,
+            },
+        )?),
+        None => None,
+    };
+    let mut out = FitOutcome {
+        space,
+        sigma1: fit.spline,
+        fill,
+        summary: FitSummary {
+            points: data.params.len(),
+            space: setup.space,
+            cells: setup.cells,
+            dimension_per_component: 0,
+            epsilon: setup.epsilon,
+            u_range: u,
+            v_range: v,
+            rms_misfit: 0.0,
+            max_misfit: 0.0,
+            empty_cells: fit.empty_cells,
+            hole_cells: mask
+                .as_ref()
+                .map_or(0, |m| m.iter().filter(|&&b| b).count()),
+            fill: None,
+        },
+    };
+    out.summary.dimension_per_component = out.space.dim();
+    out.summary.fill = out.fill.as_ref().map(|f| f.report.clone());
+    let (mut sq, mut mx) = (0.0f64, 0.0f64);
+    for (p, x) in data.params.iter().zip(&data.points) {
+        let s = out.eval(p[0], p[1])?;
+        let e = (0..3).map(|k| (s[k] - x[k]).powi(2)).sum::<f64>();
+        sq += e;
+        mx = mx.max(e.sqrt());
+    }
+    out.summary.rms_misfit = (sq / data.params.len() as f64).sqrt();
+    out.summary.max_misfit = mx;
+    Ok(out)
+}
+
+/// The data of a generalized offset of the surface the data sample (2022 (3)): fits σ_f
+/// to the data (no hole), takes the frame (e₁, e₂, n) of σ_f at each parameter (2022 (2))
+/// and returns pₐ + d₁e₁ + d₂e₂ + d₃n with `distances(u, v) = (d₁, d₂, d₃)`.
+///
+/// Errors: those of [`fit_and_fill`]; `InvalidInput` where σ_f is not regular or a
+/// distance fails.
+pub fn offset_data(
+    data: &ScatteredData,
+    setup: &FitSetup,
+    distances: &dyn Fn(f64, f64) -> Result<[f64; 3]>,
+) -> Result<ScatteredData> {
+    let base = fit_and_fill(
+        data,
+        &FitSetup {
+            hole: HoleSource::None,
+            ..setup.clone()
+        },
+    )?;
+    let space = base.space.as_ref();
+    let mut out = ScatteredData::default();
+    for (p, x) in data.params.iter().zip(&data.points) {
+        let fu = base.sigma1.eval(space, p[0], p[1], 1, 0)?;
+        let fv = base.sigma1.eval(space, p[0], p[1], 0, 1)?;
+        let surface = move |_: f64, _: f64| [*x, fu, fv];
+        let frame = super::offset::GeneralizedOffset {
+            surface,
+            distances: [
+                Box::new(|_, _| 0.0),
+                Box::new(|_, _| 0.0),
+                Box::new(|_, _| 0.0),
+            ],
+        }
+        .frame(p[0], p[1])?;
+        let d = distances(p[0], p[1])?;
+        out.params.push(*p);
+        out.points.push(std::array::from_fn(|k| {
+            x[k] + d[0] * frame[0][k] + d[1] * frame[1][k] + d[2] * frame[2][k]
+        }));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tolerance::SOLVE;
+
+    #[test]
+    fn fits_a_quadratic_patch_and_fills_the_empty_cells() {
+        // Data of an affine map on [0,1]² with a square gap [0.4, 0.6]²: a fit with 5 × 5
+        // cells leaves cell (2, 2) empty; the filled surface reproduces the affine map.
+        let mut d = ScatteredData::default();
+        for i in 0..40 {
+            for j in 0..40 {
+                let (u, v) = (i as f64 / 39.0, j as f64 / 39.0);
+                if (0.4..=0.6).contains(&u) && (0.4..=0.6).contains(&v) {
+                    continue;
+                }
+                d.params.push([u, v]);
+                d.points.push([u, v, 1.0 + u - 2.0 * v]);
+            }
+        }
+        for space in [SpaceKind::Biquadratic, SpaceKind::Bicubic, SpaceKind::BfsC1] {
+            let setup = FitSetup {
+                space,
+                cells: [5, 5],
+                epsilon: 1e-6,
+                hole: HoleSource::CellsWithoutData,
+                variant: FillVariant::Paper,
+            };
+            let out = fit_and_fill(&d, &setup).unwrap();
+            assert_eq!(out.summary.hole_cells, 1);
+            let s = out.eval(0.5, 0.5).unwrap();
+            crate::assert_near!(s[2], 1.0 + 0.5 - 1.0, SOLVE);
+            let m = out.mesh(&d, 8).unwrap();
+            assert_eq!(m.vertex_count(), 81);
+        }
+    }
+
+    #[test]
+    fn normal_offset_of_a_plane_is_a_shifted_plane() {
+        // f(u, v) = (u, v, 0.5u): n = (−0.5, 0, 1)/√1.25; d₃ = 0.1 shifts every point by 0.1n.
+        let mut d = ScatteredData::default();
+        for i in 0..15 {
+            for j in 0..15 {
+                let (u, v) = (i as f64 / 14.0, j as f64 / 14.0);
+                d.params.push([u, v]);
+                d.points.push([u, v, 0.5 * u]);
+            }
+        }
+        let setup = FitSetup {
+            space: SpaceKind::Biquadratic,
+            cells: [3, 3],
+            epsilon: 1e-9,
+            hole: HoleSource::None,
+            variant: FillVariant::Paper,
+        };
+        let o = offset_data(&d, &setup, &|_, _| Ok([0.0, 0.0, 0.1])).unwrap();
+        let s = 0.1 / 1.25f64.sqrt();
+        for (p, q) in d.points.iter().zip(&o.points) {
+            crate::assert_near!(q[0] - p[0], -0.5 * s, SOLVE);
+            crate::assert_near!(q[1] - p[1], 0.0, SOLVE);
+            crate::assert_near!(q[2] - p[2], s, SOLVE);
+        }
+    }
+
+    #[test]
+    fn ill_posed_setups_are_errors() {
+        let d = ScatteredData {
+            params: vec![[0.0, 0.0], [1.0, 1.0]],
+            points: vec![[0.0; 3]; 2],
+        };
+        let setup = FitSetup {
+            space: SpaceKind::Biquadratic,
+            cells: [2, 2],
+            epsilon: 1e-6,
+            hole: HoleSource::None,
+            variant: FillVariant::Paper,
+        };
+        assert!(fit_and_fill(&d, &setup).is_err(), "two points");
+        let line = ScatteredData {
+            params: vec![[0.0, 0.0]; 5],
+            points: vec![[0.0; 3]; 5],
+        };
+        assert!(fit_and_fill(&line, &setup).is_err(), "degenerate rectangle");
+        assert!(fit_and_fill(
+            &d,
+            &FitSetup {
+                epsilon: 0.0,
+                ..setup.clone()
+            }
+        )
+        .is_err());
+        assert!(fit_and_fill(
+            &d,
+            &FitSetup {
+                cells: [0, 2],
+                ..setup
+            }
+        )
+        .is_err());
+    }
+}
