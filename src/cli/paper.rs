@@ -42,6 +42,9 @@ pub struct PaperArgs {
     /// Hole-filling variant (kp2022-table1).
     #[arg(long, value_enum, default_value = "paper")]
     pub variant: VariantArg,
+    /// Folder for the figures (PLY with the error as quality, and PNG pictures).
+    #[arg(long, default_value = "surfkit-figures")]
+    pub figures: std::path::PathBuf,
     /// Print one JSON object per row instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -67,6 +70,7 @@ pub fn run(args: &PaperArgs) -> crate::Result<()> {
                 VariantArg::ExactC1 => FillVariant::ExactC1,
             };
             let rows = paper_kp2022::table1(args.seeds, variant)?;
+            let written = paper_kp2022::figures(&args.figures, 0)?;
             if args.json {
                 return json(&rows);
             }
@@ -81,6 +85,10 @@ pub fn run(args: &PaperArgs) -> crate::Result<()> {
                     r.knots_per_side, r.points, r.epsilon, r.error1.median, r.error1.min, r.error1.max, r.paper_error1,
                     r.error.median, r.error.min, r.error.max, r.paper_error, r.max_c0_jump, r.max_c1_jump
                 );
+            }
+            println!("figures (the text example: 9 knots, 500 points, ε = 1e-9, seed 0):");
+            for path in written {
+                println!("  {}", path.display());
             }
         }
         PaperName::Kpo2024Table1 => {

@@ -152,18 +152,29 @@ pub struct Kp2022Run {
     pub c1_jump: f64,
 }
 
-/// One run of the example: `knots` per side, `points` random data points in R − H, ε,
-/// a seed for the points (data and evaluation points both come from it).
+/// The solved example: the space, the data, σ₁ and the filled σ.
+pub struct Kp2022Solution {
+    pub space: TensorSpace<crate::spline::BSpline1d>,
+    pub hole_cells: Vec<bool>,
+    pub sigma1: crate::fit::smoothing::SmoothingFit,
+    pub fill: crate::fit::fill::HoleFill,
+    /// Random evaluation points outside H_h and anywhere in R (from the same seed).
+    pub xi1: Vec<[f64; 2]>,
+    pub xi: Vec<[f64; 2]>,
+}
+
+/// Solves the example: `knots` per side, `points` random data points in R − H, ε, a seed
+/// for the points (data and evaluation points both come from it).
 ///
 /// Errors: `InvalidInput` for fewer than 2 knots, no points or ε ≤ 0; solver errors as
 /// [`smoothing_spline`] and [`fill_hole`].
-pub fn run(
+pub fn solve(
     knots: usize,
     points: usize,
     epsilon: f64,
     seed: u64,
     variant: FillVariant,
-) -> Result<Kp2022Run> {
+) -> Result<Kp2022Solution> {
     if knots < 2 || points == 0 {
         return Err(Error::InvalidInput(format!(
             "kp2022: need at least 2 knots per side and one point, got {knots} and {points}"
@@ -216,6 +227,28 @@ pub fn run(
             variant,
         },
     )?;
+    Ok(Kp2022Solution {
+        space,
+        hole_cells: mask,
+        sigma1: fit,
+        fill,
+        xi1,
+        xi,
+    })
+}
+
+/// One run of the example (see [`solve`]) reduced to the table's numbers.
+///
+/// Errors: those of [`solve`].
+pub fn run(
+    knots: usize,
+    points: usize,
+    epsilon: f64,
+    seed: u64,
+    variant: FillVariant,
+) -> Result<Kp2022Run> {
+    let sol = solve(knots, points, epsilon, seed, variant)?;
+    let off = offset();
     let rel = |pts: &[[f64; 2]], f: &dyn Fn(f64, f64) -> Result<[f64; 3]>| -> Result<f64> {
         let (mut num, mut den) = (0.0, 0.0);
         for p in pts {
@@ -226,14 +259,79 @@ pub fn run(
         }
         Ok((num / den).sqrt())
     };
-    let error1 = rel(&xi1, &|x, y| fit.spline.eval(&space, x, y, 0, 0))?;
-    let error = rel(&xi, &|x, y| fill.eval(&space, x, y, 0, 0))?;
+    let error1 = rel(&sol.xi1, &|x, y| {
+        sol.sigma1.spline.eval(&sol.space, x, y, 0, 0)
+    })?;
+    let error = rel(&sol.xi, &|x, y| sol.fill.eval(&sol.space, x, y, 0, 0))?;
     Ok(Kp2022Run {
         error1,
         error,
-        c0_jump: fill.report.c0_jump,
-        c1_jump: fill.report.c1_jump,
+        c0_jump: sol.fill.report.c0_jump,
+        c1_jump: sol.fill.report.c1_jump,
     })
+}
+
+/// The paper's figures for its text example (n = m = 9 knots, 500 points, ε = 1e-9): the
+/// offset surface with its holes, σ₁ on R − H and the filled σ, as PLY (distance to the
+/// exact offset as quality) and PNG pictures in `dir`. Returns the files written.
+///
+/// Errors: those of [`solve`], and I/O errors writing the files.
+pub fn figures(dir: &std::path::Path, seed: u64) -> Result<Vec<std::path::PathBuf>> {
+    use crate::fit::sample::sample_mesh;
+    use crate::mesh::io::{write, WriteOptions};
+    use crate::report::{render_png, RenderOptions};
+    const RES: usize = 120;
+    let sol = solve(9, 500, 1e-9, seed, FillVariant::Paper)?;
+    let off = offset();
+    let grid = sol.space.grid();
+    let hole = hole();
+    let distance =
+        |a: [f64; 3], b: [f64; 3]| ((0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>()).sqrt();
+    let exact = |u: f64, v: f64| off.point(u, v);
+    let sigma1 = |u: f64, v: f64| sol.sigma1.spline.eval(&sol.space, u, v, 0, 0);
+    let sigma = |u: f64, v: f64| sol.fill.eval(&sol.space, u, v, 0, 0);
+    let err1 = |u: f64, v: f64| Ok(distance(sigma1(u, v)?, exact(u, v)?));
+    let err = |u: f64, v: f64| Ok(distance(sigma(u, v)?, exact(u, v)?));
+    let outside_hole = |k: usize| {
+        let (i, j) = (k / RES, k % RES);
+        let (u, v) = ((i as f64 + 0.5) / RES as f64, (j as f64 + 0.5) / RES as f64);
+        !hole.contains(grid, u, v)
+    };
+    let mut with_holes = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, &exact, None)?;
+    keep_faces(&mut with_holes, &outside_hole);
+    let mut approximated = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, &sigma1, Some(&err1))?;
+    keep_faces(&mut approximated, &outside_hole);
+    let filled = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, &sigma, Some(&err))?;
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let mut written = Vec::new();
+    for (name, mesh) in [
+        ("kp2022_offset_with_holes", &with_holes),
+        ("kp2022_sigma1_approximation", &approximated),
+        ("kp2022_filled", &filled),
+    ] {
+        let (ply, png) = (
+            dir.join(format!("{name}.ply")),
+            dir.join(format!("{name}.png")),
+        );
+        write(&ply, mesh, &WriteOptions::default())?;
+        render_png(mesh, &png, &RenderOptions::default())?;
+        written.push(ply);
+        written.push(png);
+    }
+    Ok(written)
+}
+
+/// Keeps the faces `keep` accepts (by face index), vertices unchanged.
+fn keep_faces(mesh: &mut crate::mesh::PolygonMesh, keep: &dyn Fn(usize) -> bool) {
+    let faces: Vec<Vec<u32>> = mesh
+        .faces()
+        .enumerate()
+        .filter(|(k, _)| keep(*k))
+        .map(|(_, f)| f.to_vec())
+        .collect();
+    let kept = crate::mesh::PolygonMesh::from_polygons(Vec::new(), &faces);
+    mesh.face_offsets = kept.face_offsets;
+    mesh.face_indices = kept.face_indices;
 }
 
 /// Table 1 of the 2022 paper: every row run over seeds 0..`seeds`.

@@ -2,4 +2,4 @@
 
 mod render;
 
-pub use render::{color_range, diverging_color, render_png, render_rgb, RenderOptions};
+pub use render::{color_range, diverging_color, render_png, render_rgb, RenderOptions, BACKGROUND};

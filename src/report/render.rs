@@ -33,6 +33,9 @@ impl Default for RenderOptions {
     }
 }
 
+/// Background colour: dark, so that the white middle of the colour map stands out.
+pub const BACKGROUND: [u8; 3] = [48, 48, 54];
+
 /// The colour of `t` in [0, 1] on a diverging blue–white–red map.
 pub fn diverging_color(t: f64) -> [f64; 3] {
     let t = t.clamp(0.0, 1.0);
@@ -67,7 +70,7 @@ pub fn color_range(values: &[f64]) -> (f64, f64) {
 /// Renders `mesh` coloured by `mesh.quality` (grey without) into an RGB image, row-major.
 pub fn render_rgb(mesh: &PolygonMesh, options: &RenderOptions) -> Vec<u8> {
     let (w, h) = (options.width as usize, options.height as usize);
-    let mut image = vec![255u8; w * h * 3];
+    let mut image: Vec<u8> = BACKGROUND.iter().copied().cycle().take(w * h * 3).collect();
     let Some((lo, hi)) = mesh.bounding_box() else {
         return image;
     };
@@ -254,7 +257,7 @@ mod tests {
         };
         let img = render_rgb(&m, &options);
         let at = |x: usize, y: usize| &img[(y * 40 + x) * 3..(y * 40 + x) * 3 + 3];
-        assert_ne!(at(20, 20), &[255, 255, 255], "the square covers the centre");
-        assert_eq!(at(0, 0), &[255, 255, 255], "the corner stays background");
+        assert_ne!(at(20, 20), &BACKGROUND, "the square covers the centre");
+        assert_eq!(at(0, 0), &BACKGROUND, "the corner stays background");
     }
 }
