@@ -189,6 +189,12 @@ fn parse_header(path: &Path, bytes: &[u8]) -> Result<Header> {
                     body_line: number + 1,
                 });
             }
+            Some(other) if parse_f64(other.as_bytes()).is_some() => {
+                return Err(err(
+                    number,
+                    format!("data {other:?} in the header: the end_header line is missing"),
+                ))
+            }
             Some(other) => return Err(err(number, format!("unknown header keyword {other:?}"))),
         }
     }
@@ -364,11 +370,16 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
     let mut wedge_uv = CornerUvs::default();
     let mut objects = FaceLabels::default();
     let mut groups = FaceLabels::default();
-    let mut vertex_count = 0;
+    // Faces are checked against the declared count, so that a face element declared before
+    // the vertex element is read right; the vertex element must then hold that many.
+    let vertex_count = header.elements[vertex].count;
+    // Counts are not trusted with memory: every instance takes at least one byte.
+    let room = bytes.len() - header.body;
 
     // Body readers: ASCII one instance per line, binary as a byte cursor.
     let mut lines = Lines::new(&bytes[header.body..]);
     let line_offset = header.body_line - 1;
+    let mut last_line = line_offset;
     let mut binary = BinaryValues {
         data: bytes,
         pos: header.body,
@@ -380,13 +391,17 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
         let mut lists = vec![Vec::new(); element.properties.len()];
         let is_vertex = ei == vertex;
         let is_face = Some(ei) == face;
+        if element.properties.is_empty() {
+            // Nothing to read (and a huge count must not spin).
+            continue;
+        }
         if is_vertex {
-            vertex_count = element.count;
-            mesh.positions.reserve_exact(element.count);
+            mesh.positions.reserve_exact(element.count.min(room));
         }
         if is_face {
-            mesh.face_offsets.reserve_exact(element.count);
-            mesh.face_indices.reserve(element.count * 3);
+            mesh.face_offsets.reserve_exact(element.count.min(room));
+            mesh.face_indices
+                .reserve(element.count.min(room).saturating_mul(3));
         }
         for index in 0..element.count {
             let byte_offset = binary.pos;
@@ -409,11 +424,11 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             let line_number = if header.encoding == PlyEncoding::Ascii {
                 let (n, line) = loop {
                     match lines.next() {
-                        Some((_, l)) if l.trim_ascii().is_empty() => continue,
+                        Some((n, l)) if l.trim_ascii().is_empty() => last_line = n + line_offset,
                         Some((n, l)) => break (n + line_offset, l),
                         None => {
                             return Err(located(
-                                None,
+                                Some(last_line),
                                 format!(
                                     "the file ends after {index} of the {} {} elements the header declares",
                                     element.count, element.name
@@ -422,6 +437,7 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                         }
                     }
                 };
+                last_line = n;
                 let mut src = AsciiValues {
                     tokens: tokens(line),
                 };
@@ -444,16 +460,26 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                     unreachable!()
                 };
                 let n = binary.scalar(count).map_err(|m| located(None, m))?;
+                if n < 0.0 {
+                    return Err(located(
+                        None,
+                        format!(
+                            "list {:?} has a negative length {n}",
+                            element.properties[roles.corners].name
+                        ),
+                    ));
+                }
                 let start = mesh.face_indices.len();
                 for _ in 0..n as usize {
                     let i = binary.scalar(item).map_err(|m| located(None, m))?;
-                    if let Some(m) = out_of_range(i as i64, vertex_count, 0) {
+                    let i = corner_index(i).map_err(|m| located(None, m))?;
+                    if let Some(m) = out_of_range(i, vertex_count, 0) {
                         return Err(located(None, m));
                     }
                     mesh.face_indices.push(i as u32);
                 }
                 if !options.keep_degenerate {
-                    if let Some(m) = degeneracy(&mesh.face_indices[start..]) {
+                    if let Some(m) = degeneracy(&mesh.face_indices[start..], 0) {
                         return Err(located(None, m));
                     }
                 }
@@ -476,24 +502,33 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                 }
                 mesh.positions.push(p);
                 if let Some(q) = roles.quality {
-                    quality.push(slots[q]);
+                    let q = slots[q];
+                    if !q.is_finite() {
+                        return Err(fail(format!("quality {q} is not finite")));
+                    }
+                    quality.push(q);
                 }
                 if let Some(rgba) = roles.rgba {
                     colors.push(rgba_of(element, &slots, rgba));
                 }
                 if let Some([u, v]) = roles.vertex_uv {
-                    vertex_uv.push([slots[u], slots[v]]);
+                    let uv = [slots[u], slots[v]];
+                    if !uv.iter().all(|c| c.is_finite()) {
+                        return Err(fail(format!("texture coordinates {uv:?} are not finite")));
+                    }
+                    vertex_uv.push(uv);
                 }
             } else if is_face {
                 let start = mesh.face_indices.len();
                 for &i in &lists[roles.corners] {
-                    if let Some(m) = out_of_range(i as i64, vertex_count, 0) {
+                    let i = corner_index(i).map_err(fail)?;
+                    if let Some(m) = out_of_range(i, vertex_count, 0) {
                         return Err(fail(m));
                     }
                     mesh.face_indices.push(i as u32);
                 }
                 if !options.keep_degenerate {
-                    if let Some(m) = degeneracy(&mesh.face_indices[start..]) {
+                    if let Some(m) = degeneracy(&mesh.face_indices[start..], 0) {
                         return Err(fail(m));
                     }
                 }
@@ -508,6 +543,9 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                             2 * arity
                         )));
                     }
+                    if let Some(c) = tc.iter().find(|c| !c.is_finite()) {
+                        return Err(fail(format!("texcoord value {c} is not finite")));
+                    }
                     for uv in tc.chunks_exact(2) {
                         wedge_uv.corner_indices.push(wedge_uv.coords.len() as u32);
                         wedge_uv.coords.push([uv[0], uv[1]]);
@@ -516,9 +554,18 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                 for (role, labels) in [(roles.object, &mut objects), (roles.group, &mut groups)] {
                     if let Some(k) = role {
                         let id = slots[k];
-                        labels
-                            .of_face
-                            .push(if id < 0.0 { NO_LABEL } else { id as u32 });
+                        if id.fract() != 0.0 {
+                            return Err(fail(format!(
+                                "{} {id} is not an integer",
+                                element.properties[k].name
+                            )));
+                        }
+                        // Ids past the names in the header are refused below.
+                        labels.of_face.push(if id < 0.0 {
+                            NO_LABEL
+                        } else {
+                            id.min(f64::from(NO_LABEL - 1)) as u32
+                        });
                     }
                 }
             }
@@ -585,6 +632,15 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
         *slot = Some(labels);
     }
     Ok(mesh)
+}
+
+/// A corner's vertex index as read (any numeric type): an error unless it is an integer.
+fn corner_index(i: f64) -> std::result::Result<i64, String> {
+    if i.fract() == 0.0 {
+        Ok(i as i64)
+    } else {
+        Err(format!("vertex index {i} is not an integer"))
+    }
 }
 
 /// Whether a face element holds only the corner list (the layout of most binary PLY files).
