@@ -321,3 +321,27 @@ pub fn write(out: &mut dyn Write, mesh: &PolygonMesh) -> std::io::Result<()> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(bytes: &[u8]) -> Result<PolygonMesh> {
+        parse(Path::new("t.obj"), bytes, &ReadOptions::default())
+    }
+
+    #[test]
+    fn group_name_after_leading_blanks() {
+        let mesh = read(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n  g  side  \nf 1 2 3\n").unwrap();
+        assert_eq!(mesh.groups.unwrap().names, vec!["side".to_string()]);
+    }
+
+    #[test]
+    fn non_utf8_in_a_face_record_is_named() {
+        let e = read(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 \xe93\n").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "t.obj: line 4: not valid UTF-8 text: byte 0xe9 at column 7"
+        );
+    }
+}

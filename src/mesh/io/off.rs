@@ -302,3 +302,24 @@ pub fn write(out: &mut dyn Write, mesh: &PolygonMesh) -> std::io::Result<()> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn huge_counts_do_not_size_allocations() {
+        let e = parse(
+            Path::new("t.off"),
+            b"OFF\n999999999999999999 1 0\n0 0 0\n",
+            &ReadOptions::default(),
+        )
+        .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "t.off: line 3: the file ends after 1 of the 999999999999999999 vertices the header \
+             declares: line 2 declares 999999999999999999 vertices and 1 faces, the file has 1 \
+             data lines after it"
+        );
+    }
+}

@@ -819,3 +819,166 @@ impl Encoder<'_> {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TRIANGLE_ASCII: &str = "0 0 0\n1 0 0\n0 1 0\n";
+
+    fn read(bytes: &[u8]) -> Result<PolygonMesh> {
+        parse(Path::new("t.ply"), bytes, &ReadOptions::default())
+    }
+
+    fn message(bytes: &[u8]) -> (Location, String) {
+        match read(bytes) {
+            Err(Error::Parse {
+                location, message, ..
+            }) => (location, message),
+            other => panic!("expected a parse error, got {other:?}"),
+        }
+    }
+
+    /// A binary little-endian file: the given header lines, then `body`.
+    fn binary(header: &str, body: &[u8]) -> Vec<u8> {
+        let mut b =
+            format!("ply\nformat binary_little_endian 1.0\n{header}end_header\n").into_bytes();
+        b.extend_from_slice(body);
+        b
+    }
+
+    fn triangle_vertices() -> Vec<u8> {
+        [0f32, 0., 0., 1., 0., 0., 0., 1., 0.]
+            .iter()
+            .flat_map(|x| x.to_le_bytes())
+            .collect()
+    }
+
+    const XYZ: &str = "property float x\nproperty float y\nproperty float z\n";
+
+    #[test]
+    fn face_element_before_vertex_element() {
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\n\
+             element vertex 3\n{XYZ}end_header\n3 0 1 2\n{TRIANGLE_ASCII}"
+        );
+        let mesh = read(text.as_bytes()).unwrap();
+        assert_eq!(mesh.faces().collect::<Vec<_>>(), vec![&[0u32, 1, 2][..]]);
+        assert_eq!(mesh.vertex_count(), 3);
+    }
+
+    #[test]
+    fn element_without_properties_and_a_huge_count_is_skipped() {
+        let header = format!("element junk {}\nelement vertex 3\n{XYZ}", usize::MAX);
+        let mesh = read(&binary(&header, &triangle_vertices())).unwrap();
+        assert_eq!(mesh.vertex_count(), 3);
+    }
+
+    #[test]
+    fn huge_declared_counts_do_not_size_allocations() {
+        let header = format!(
+            "element vertex {}\n{XYZ}element face {}\nproperty list uchar int vertex_indices\n",
+            usize::MAX,
+            usize::MAX
+        );
+        let (location, m) = message(&binary(&header, &triangle_vertices()));
+        assert_eq!(m, "the file ends inside this element");
+        let body = binary(&header, b"").len();
+        assert_eq!(
+            location,
+            Location::Element {
+                kind: "vertex".into(),
+                index: 3,
+                byte_offset: body + 36
+            }
+        );
+        let ascii = format!(
+            "ply\nformat ascii 1.0\nelement vertex {}\n{XYZ}end_header\n",
+            usize::MAX
+        );
+        let (location, m) = message(ascii.as_bytes());
+        assert_eq!(location, Location::Line(7));
+        assert!(
+            m.contains("the file ends after 0 of the 18446744073709551615 vertex elements"),
+            "{m}"
+        );
+    }
+
+    #[test]
+    fn negative_list_length_on_the_binary_fast_path() {
+        let header = format!(
+            "element vertex 3\n{XYZ}element face 1\nproperty list char int vertex_indices\n"
+        );
+        let mut body = triangle_vertices();
+        body.push(0xff); // -1 as char
+        let (location, m) = message(&binary(&header, &body));
+        assert_eq!(m, "list \"vertex_indices\" has a negative length -1");
+        assert!(matches!(location, Location::Element { ref kind, index: 0, .. } if kind == "face"));
+    }
+
+    #[test]
+    fn corner_indices_must_be_integers() {
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement vertex 3\n{XYZ}element face 1\n\
+             property list uchar float vertex_indices\nend_header\n{TRIANGLE_ASCII}3 0 1.5 2\n"
+        );
+        assert_eq!(
+            message(text.as_bytes()),
+            (
+                Location::Line(13),
+                "face 0: vertex index 1.5 is not an integer".into()
+            )
+        );
+        let header = format!(
+            "element vertex 3\n{XYZ}element face 1\nproperty list uchar float vertex_indices\n"
+        );
+        let mut body = triangle_vertices();
+        body.push(3);
+        for x in [0f32, f32::NAN, 2.0] {
+            body.extend_from_slice(&x.to_le_bytes());
+        }
+        assert_eq!(
+            message(&binary(&header, &body)).1,
+            "vertex index NaN is not an integer"
+        );
+    }
+
+    #[test]
+    fn non_finite_quality_and_uv_are_refused() {
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement vertex 1\n{XYZ}property float quality\nend_header\n0 0 0 nan\n"
+        );
+        assert_eq!(
+            message(text.as_bytes()),
+            (
+                Location::Line(9),
+                "vertex 0: quality NaN is not finite".into()
+            )
+        );
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement vertex 1\n{XYZ}property float u\nproperty float v\nend_header\n0 0 0 inf 0\n"
+        );
+        assert_eq!(
+            message(text.as_bytes()),
+            (
+                Location::Line(10),
+                "vertex 0: texture coordinates [inf, 0.0] are not finite".into()
+            )
+        );
+    }
+
+    #[test]
+    fn ascii_end_of_data_points_at_the_last_line() {
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement vertex 4\n{XYZ}end_header\n{TRIANGLE_ASCII}\n  \n"
+        );
+        assert_eq!(
+            message(text.as_bytes()),
+            (
+                Location::Line(12),
+                "vertex 3: the file ends after 3 of the 4 vertex elements the header declares"
+                    .into()
+            )
+        );
+    }
+}
