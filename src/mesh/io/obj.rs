@@ -274,10 +274,9 @@ pub fn write(out: &mut dyn Write, mesh: &PolygonMesh) -> std::io::Result<()> {
             write_f64(out, c)?;
         }
         if let Some(colors) = &mesh.colors {
-            let c = colors[i];
-            for k in 0..3 {
+            for &k in &colors[i][..3] {
                 out.write_all(b" ")?;
-                write_f64(out, f64::from(c[k]) / 255.0)?;
+                write_f64(out, f64::from(k) / 255.0)?;
             }
         }
         out.write_all(b"\n")?;

@@ -509,6 +509,14 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                     quality.push(q);
                 }
                 if let Some(rgba) = roles.rgba {
+                    if let Some(c) = rgba
+                        .iter()
+                        .flatten()
+                        .map(|&k| slots[k])
+                        .find(|c| !c.is_finite())
+                    {
+                        return Err(fail(format!("colour value {c} is not finite")));
+                    }
                     colors.push(rgba_of(element, &slots, rgba));
                 }
                 if let Some([u, v]) = roles.vertex_uv {
@@ -963,6 +971,20 @@ mod tests {
             (
                 Location::Line(10),
                 "vertex 0: texture coordinates [inf, 0.0] are not finite".into()
+            )
+        );
+    }
+
+    #[test]
+    fn non_finite_colour_is_refused() {
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement vertex 1\n{XYZ}property float red\nend_header\n0 0 0 nan\n"
+        );
+        assert_eq!(
+            message(text.as_bytes()),
+            (
+                Location::Line(9),
+                "vertex 0: colour value NaN is not finite".into()
             )
         );
     }
