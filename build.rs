@@ -116,6 +116,7 @@ fn main() {
         .define("_USE_MATH_DEFINES", None)
         .flag_if_supported("-Wno-deprecated-copy")
         .flag_if_supported("-Wno-unused-parameter")
+        .flag_if_supported("-Wno-maybe-uninitialized")
         .compile("surfkit_openmesh");
     link(&OPENMESH, &openmesh);
 

@@ -11,6 +11,10 @@ pub mod error;
 mod ffi;
 pub mod halfedge;
 pub mod mesh;
+pub mod report;
+pub mod shapes;
+pub mod subdiv;
 pub mod tolerance;
+pub mod topology;
 
 pub use error::{Error, Result};

@@ -244,3 +244,46 @@ fn incremental_faces_report_like_the_batch() {
     }
     assert!(inc.add_face(&[0, 1, 99], 9).is_err());
 }
+
+/// Files written by OpenMesh's own exporter read back with surfkit's readers: the same
+/// vertices (to the exporter's printed precision) and the same faces up to rotation.
+#[test]
+fn surfkit_reads_what_openmesh_writes() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["catmark_nonquads.obj", "rabbit.obj", "fixed_top.ply"] {
+        let mesh = read_with(&common::meshes_dir().join(name), &lenient()).unwrap();
+        let built = halfedge::build(&mesh).unwrap();
+        assert_eq!(built.refused().count(), 0);
+        for ext in ["obj", "off", "ply"] {
+            let path = dir.path().join(format!("om.{ext}"));
+            built.mesh.write_with_openmesh(&path).unwrap();
+            let back = surfkit::mesh::io::read(&path).unwrap();
+            assert_eq!(
+                back.vertex_count(),
+                mesh.vertex_count(),
+                "{name} via OpenMesh {ext}"
+            );
+            assert_eq!(
+                back.face_count(),
+                mesh.face_count(),
+                "{name} via OpenMesh {ext}"
+            );
+            for (p, q) in mesh.positions.iter().zip(&back.positions) {
+                for k in 0..3 {
+                    // OpenMesh prints coordinates as float text (about 7 significant digits).
+                    assert!(
+                        (p[k] - q[k]).abs() <= 1e-5 * p[k].abs().max(1.0),
+                        "{name} {ext}: {p:?} vs {q:?}"
+                    );
+                }
+            }
+            let rotated = |f: &[u32]| {
+                let k = (0..f.len()).min_by_key(|&i| f[i]).unwrap();
+                f[k..].iter().chain(&f[..k]).copied().collect::<Vec<u32>>()
+            };
+            for (f, g) in mesh.faces().zip(back.faces()) {
+                assert_eq!(rotated(f), rotated(g), "{name} {ext}");
+            }
+        }
+    }
+}

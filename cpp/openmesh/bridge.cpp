@@ -131,6 +131,27 @@ uint8_t HalfEdgeMesh::add_face(rust::Slice<const uint32_t> corners, uint32_t inp
   return status;
 }
 
+void HalfEdgeMesh::add_faces(rust::Slice<const uint32_t> offsets, rust::Slice<const uint32_t> indices,
+                             uint32_t first_input_id, rust::Vec<uint8_t>& status,
+                             rust::String& messages) {
+  if (offsets.empty() || offsets[0] != 0 || offsets[offsets.size() - 1] != indices.size())
+    throw std::invalid_argument("face offsets must run from 0 to the number of indices");
+  CaptureOmerr capture;
+  std::string said;
+  for (size_t f = 0; f + 1 < offsets.size(); ++f) {
+    if (offsets[f + 1] < offsets[f]) throw std::invalid_argument("face offsets decrease at face " + std::to_string(f));
+    status.push_back(add_one(*this, indices.data() + offsets[f], offsets[f + 1] - offsets[f],
+                             first_input_id + static_cast<uint32_t>(f), capture, said));
+  }
+  messages = said;
+}
+
+void HalfEdgeMesh::add_vertices(rust::Slice<const double> positions) {
+  if (positions.size() % 3 != 0) throw std::invalid_argument("positions must be x,y,z triples");
+  for (size_t v = 0; v < positions.size() / 3; ++v)
+    mesh.add_vertex(PolyMesh::Point(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]));
+}
+
 size_t HalfEdgeMesh::n_vertices() const { return mesh.n_vertices(); }
 size_t HalfEdgeMesh::n_edges() const { return mesh.n_edges(); }
 size_t HalfEdgeMesh::n_faces() const { return mesh.n_faces(); }

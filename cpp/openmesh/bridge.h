@@ -47,6 +47,9 @@ class HalfEdgeMesh {
   void positions(rust::Vec<double>& out) const;
   void set_positions(rust::Slice<const double> positions);
   uint8_t add_face(rust::Slice<const uint32_t> corners, uint32_t input_id, rust::String& message);
+  void add_faces(rust::Slice<const uint32_t> offsets, rust::Slice<const uint32_t> indices,
+                 uint32_t first_input_id, rust::Vec<uint8_t>& status, rust::String& messages);
+  void add_vertices(rust::Slice<const double> positions);
   void write_with_openmesh(rust::Str path) const;
 };
 

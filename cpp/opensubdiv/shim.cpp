@@ -1,12 +1,22 @@
 // Implementation of the OpenSubdiv shim (see shim.h).
 #include "shim.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <string>
 
+#include <memory>
+#include <vector>
+
 #include <opensubdiv/far/error.h>
+#include <opensubdiv/far/patchTable.h>
+#include <opensubdiv/far/patchTableFactory.h>
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/ptexIndices.h>
+#include <opensubdiv/far/stencilTable.h>
+#include <opensubdiv/far/stencilTableFactory.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
 #include <opensubdiv/version.h>
@@ -82,3 +92,335 @@ extern "C" int surfkit_osd_self_test(char** error) {
 }
 
 extern "C" void surfkit_osd_free_message(char* message) { std::free(message); }
+
+// ---- Topology ------------------------------------------------------------------------------
+
+namespace {
+
+typedef Far::TopologyRefinerFactory<Far::TopologyDescriptor> RefinerFactory;
+
+// Builds a refiner from the C topology; the descriptor only borrows the arrays.
+std::unique_ptr<Far::TopologyRefiner> make_refiner(const surfkit_osd_topology* t,
+                                                   std::string& why) {
+  if (!t || t->num_vertices < 0 || t->num_faces < 0 || (t->num_faces > 0 &&
+      (!t->verts_per_face || !t->face_vertices))) {
+    why = "topology: missing or negative counts/arrays";
+    return nullptr;
+  }
+  if (t->vtx_boundary_interpolation < 0 || t->vtx_boundary_interpolation > 2 ||
+      t->fvar_linear_interpolation < 0 || t->fvar_linear_interpolation > 5 ||
+      t->creasing_method < 0 || t->creasing_method > 1 || t->triangle_subdivision < 0 ||
+      t->triangle_subdivision > 1) {
+    why = "topology: an option is out of the range of OpenSubdiv's Sdc::Options enums";
+    return nullptr;
+  }
+  Far::TopologyDescriptor desc;
+  desc.numVertices = t->num_vertices;
+  desc.numFaces = t->num_faces;
+  desc.numVertsPerFace = t->verts_per_face;
+  desc.vertIndicesPerFace = t->face_vertices;
+  desc.numCreases = t->num_creases;
+  desc.creaseVertexIndexPairs = t->crease_vertex_pairs;
+  desc.creaseWeights = t->crease_sharpness;
+  desc.numCorners = t->num_corners;
+  desc.cornerVertexIndices = t->corner_vertices;
+  desc.cornerWeights = t->corner_sharpness;
+  Far::TopologyDescriptor::FVarChannel channel;
+  if (t->num_fvar_values > 0) {
+    channel.numValues = t->num_fvar_values;
+    channel.valueIndices = t->fvar_indices;
+    desc.numFVarChannels = 1;
+    desc.fvarChannels = &channel;
+  }
+  Sdc::Options sdc;
+  sdc.SetVtxBoundaryInterpolation(
+      static_cast<Sdc::Options::VtxBoundaryInterpolation>(t->vtx_boundary_interpolation));
+  sdc.SetFVarLinearInterpolation(
+      static_cast<Sdc::Options::FVarLinearInterpolation>(t->fvar_linear_interpolation));
+  sdc.SetCreasingMethod(static_cast<Sdc::Options::CreasingMethod>(t->creasing_method));
+  sdc.SetTriangleSubdivision(
+      static_cast<Sdc::Options::TriangleSubdivision>(t->triangle_subdivision));
+  Far::TopologyRefiner* refiner =
+      RefinerFactory::Create(desc, RefinerFactory::Options(Sdc::SCHEME_CATMARK, sdc));
+  if (!refiner) {
+    why = "TopologyRefinerFactory refused the mesh: " +
+          (last_osd_error.empty() ? std::string("no reason given") : last_osd_error);
+  }
+  return std::unique_ptr<Far::TopologyRefiner>(refiner);
+}
+
+// A point of a primvar buffer for PrimvarRefiner: N doubles.
+template <int N>
+struct Point {
+  double x[N];
+  void Clear() {
+    for (int i = 0; i < N; ++i) x[i] = 0.0;
+  }
+  void AddWithWeight(const Point& p, double w) {
+    for (int i = 0; i < N; ++i) x[i] += w * p.x[i];
+  }
+};
+
+}  // namespace
+
+// ---- Uniform refinement --------------------------------------------------------------------
+
+struct surfkit_osd_uniform {
+  std::unique_ptr<Far::TopologyRefiner> refiner;
+  int levels = 0;
+  bool fvar = false;
+};
+
+extern "C" int surfkit_osd_uniform_create(const surfkit_osd_topology* topology, int levels,
+                                          surfkit_osd_uniform** out,
+                                          surfkit_osd_uniform_counts* counts, char** error) {
+  return guarded(error, [&]() -> std::string {
+    if (!out || !counts) return "null output pointer";
+    *out = nullptr;
+    if (levels < 1 || levels > 10) return "levels must be 1..=10";
+    auto result = std::make_unique<surfkit_osd_uniform>();
+    std::string why;
+    result->refiner = make_refiner(topology, why);
+    if (!result->refiner) return why;
+    result->levels = levels;
+    result->fvar = topology->num_fvar_values > 0;
+    result->refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+    const Far::TopologyLevel& last = result->refiner->GetLevel(levels);
+    counts->num_vertices = last.GetNumVertices();
+    counts->num_faces = last.GetNumFaces();
+    counts->num_fvar_values = result->fvar ? last.GetNumFVarValues(0) : 0;
+    *out = result.release();
+    return "";
+  });
+}
+
+namespace {
+
+// Interpolates `src` (level 0) through every level; the last level goes straight into
+// `out`, intermediate levels into two scratch buffers.
+template <int N, class Apply>
+void interpolate_levels(int levels, const Point<N>* src, Point<N>* out,
+                        const Far::TopologyRefiner& refiner, Apply&& apply) {
+  std::vector<Point<N>> a, b;
+  const Point<N>* from = src;
+  for (int level = 1; level <= levels; ++level) {
+    if (level == levels) {
+      apply(level, from, out);
+    } else {
+      std::vector<Point<N>>& to = (level % 2) ? a : b;
+      to.resize(refiner.GetLevel(level).GetNumVertices());
+      apply(level, from, to.data());
+      from = to.data();
+    }
+  }
+}
+
+}  // namespace
+
+extern "C" int surfkit_osd_uniform_copy(const surfkit_osd_uniform* r, const double* positions,
+                                        const double* fvar_values, double* out_positions,
+                                        int* out_face_vertices, double* out_fvar_values,
+                                        int* out_fvar_indices, char** error) {
+  return guarded(error, [&]() -> std::string {
+    if (!r || !positions || !out_positions || !out_face_vertices) return "null pointer";
+    if (r->fvar && (!fvar_values || !out_fvar_values || !out_fvar_indices))
+      return "null face-varying pointer";
+    const Far::TopologyRefiner& refiner = *r->refiner;
+    Far::PrimvarRefinerReal<double> primvar(refiner);
+    interpolate_levels<3>(r->levels, reinterpret_cast<const Point<3>*>(positions),
+                          reinterpret_cast<Point<3>*>(out_positions), refiner,
+                          [&](int level, const Point<3>* from, Point<3>* to) {
+                            primvar.Interpolate(level, from, to);
+                          });
+    if (r->fvar) {
+      // Face-varying buffers are sized by the values of each level, not the vertices.
+      std::vector<Point<2>> a, b;
+      const Point<2>* from = reinterpret_cast<const Point<2>*>(fvar_values);
+      for (int level = 1; level <= r->levels; ++level) {
+        Point<2>* to;
+        if (level == r->levels) {
+          to = reinterpret_cast<Point<2>*>(out_fvar_values);
+        } else {
+          std::vector<Point<2>>& buf = (level % 2) ? a : b;
+          buf.resize(refiner.GetLevel(level).GetNumFVarValues(0));
+          to = buf.data();
+        }
+        primvar.InterpolateFaceVarying(level, from, to, 0);
+        from = to;
+      }
+    }
+    const Far::TopologyLevel& last = refiner.GetLevel(r->levels);
+    const int nf = last.GetNumFaces();
+    for (int f = 0; f < nf; ++f) {
+      Far::ConstIndexArray fv = last.GetFaceVertices(f);
+      if (fv.size() != 4) return "refined face is not a quad";
+      std::copy(fv.begin(), fv.end(), out_face_vertices + 4 * f);
+      if (r->fvar) {
+        Far::ConstIndexArray fvv = last.GetFaceFVarValues(f, 0);
+        std::copy(fvv.begin(), fvv.end(), out_fvar_indices + 4 * f);
+      }
+    }
+    return "";
+  });
+}
+
+extern "C" void surfkit_osd_uniform_destroy(surfkit_osd_uniform* r) { delete r; }
+
+// ---- Adaptive patch table -------------------------------------------------------------------
+
+struct surfkit_osd_patches {
+  std::unique_ptr<Far::TopologyRefiner> refiner;
+  std::unique_ptr<const Far::PatchTable> table;
+  std::unique_ptr<const Far::StencilTableReal<double>> stencils;  // points >= control verts
+  std::vector<Far::PatchTable::PatchHandle> handles;              // per patch
+  int num_control_vertices = 0;
+  int num_patch_points = 0;
+  size_t num_stencil_entries = 0;
+};
+
+extern "C" int surfkit_osd_patches_create(const surfkit_osd_topology* topology,
+                                          int max_isolation, surfkit_osd_patches** out,
+                                          surfkit_osd_patch_counts* counts, char** error) {
+  return guarded(error, [&]() -> std::string {
+    if (!out || !counts) return "null output pointer";
+    *out = nullptr;
+    if (max_isolation < 1 || max_isolation > 10) return "max_isolation must be 1..=10";
+    auto result = std::make_unique<surfkit_osd_patches>();
+    std::string why;
+    result->refiner = make_refiner(topology, why);
+    if (!result->refiner) return why;
+    Far::TopologyRefiner& refiner = *result->refiner;
+
+    Far::PatchTableFactory::Options popt(max_isolation);
+    popt.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_BSPLINE_BASIS);
+    popt.SetPatchPrecision<double>();
+    popt.generateVaryingTables = false;
+    popt.generateVaryingLocalPoints = false;
+    refiner.RefineAdaptive(popt.GetRefineAdaptiveOptions());
+
+    // Stencils of every refined vertex (all levels) in terms of the control vertices.
+    Far::StencilTableFactoryReal<double>::Options sopt;
+    sopt.generateIntermediateLevels = true;
+    sopt.generateOffsets = true;
+    sopt.generateControlVerts = false;
+    std::unique_ptr<const Far::StencilTableReal<double>> refined(
+        Far::StencilTableFactoryReal<double>::Create(refiner, sopt));
+    if (!refined) return "StencilTableFactory::Create failed: " + last_osd_error;
+
+    result->table.reset(Far::PatchTableFactory::Create(refiner, popt));
+    if (!result->table) return "PatchTableFactory::Create failed: " + last_osd_error;
+    const Far::PatchTable& table = *result->table;
+
+    const Far::StencilTableReal<double>* local = table.GetLocalPointStencilTable<double>();
+    if (local && local->GetNumStencils() > 0) {
+      result->stencils.reset(Far::StencilTableFactoryReal<double>::AppendLocalPointStencilTable(
+          refiner, refined.get(), local));
+      if (!result->stencils) return "AppendLocalPointStencilTable failed: " + last_osd_error;
+    } else {
+      result->stencils = std::move(refined);
+    }
+
+    result->num_control_vertices = refiner.GetLevel(0).GetNumVertices();
+    result->num_patch_points = refiner.GetNumVerticesTotal() + table.GetNumLocalPoints();
+    if (result->stencils->GetNumStencils() !=
+        result->num_patch_points - result->num_control_vertices)
+      return "stencil count " + std::to_string(result->stencils->GetNumStencils()) +
+             " does not match the patch points " +
+             std::to_string(result->num_patch_points - result->num_control_vertices);
+
+    for (int a = 0, global = 0; a < table.GetNumPatchArrays(); ++a) {
+      Far::PatchDescriptor d = table.GetPatchArrayDescriptor(a);
+      if (d.GetType() != Far::PatchDescriptor::REGULAR || d.GetNumControlVertices() != 16)
+        return "patch array " + std::to_string(a) + " is not of regular B-spline patches";
+      for (int p = 0; p < table.GetNumPatches(a); ++p, ++global) {
+        Far::PatchTable::PatchHandle h;
+        h.arrayIndex = a;
+        h.patchIndex = global;
+        h.vertIndex = p * 16;
+        result->handles.push_back(h);
+      }
+    }
+    // Stencils are exported packed, in order: count the entries from their sizes (the
+    // table's own vectors may hold more than its stencils use).
+    const auto& st = *result->stencils;
+    const int ns = st.GetNumStencils();
+    size_t entries = 0;
+    for (int k = 0; k < ns; ++k) {
+      const size_t end = static_cast<size_t>(st.GetOffsets()[k]) + st.GetSizes()[k];
+      if (end > st.GetControlIndices().size() || end > st.GetWeights().size())
+        return "stencil " + std::to_string(k) + " runs past the stencil table";
+      entries += st.GetSizes()[k];
+    }
+    result->num_stencil_entries = entries;
+    counts->num_patches = static_cast<int>(result->handles.size());
+    counts->num_ptex_faces = table.GetNumPtexFaces();
+    counts->num_control_vertices = result->num_control_vertices;
+    counts->num_patch_points = result->num_patch_points;
+    counts->num_stencil_weights = static_cast<int>(entries);
+    *out = result.release();
+    return "";
+  });
+}
+
+extern "C" int surfkit_osd_patches_copy(const surfkit_osd_patches* r,
+                                        const surfkit_osd_patch_arrays* a, char** error) {
+  return guarded(error, [&]() -> std::string {
+    if (!r || !a) return "null pointer";
+    const Far::PatchTable& table = *r->table;
+    for (size_t i = 0; i < r->handles.size(); ++i) {
+      const auto& h = r->handles[i];
+      Far::ConstIndexArray cv = table.GetPatchVertices(h);
+      for (int k = 0; k < 16; ++k) a->patch_points[16 * i + k] = cv[k];
+      Far::PatchParam param = table.GetPatchParam(h);
+      const double frac = param.GetParamFraction();
+      a->ptex_face[i] = param.GetFaceId();
+      a->depth[i] = param.GetDepth();
+      a->boundary_mask[i] = param.GetBoundary();
+      a->is_regular[i] = param.IsRegular() ? 1 : 0;
+      a->u0[i] = param.GetU() * frac;
+      a->v0[i] = param.GetV() * frac;
+      a->size[i] = frac;
+    }
+    Far::PtexIndices ptex(*r->refiner);
+    const int nf = r->refiner->GetLevel(0).GetNumFaces();
+    for (int f = 0; f < nf; ++f) a->ptex_of_face[f] = ptex.GetFaceId(f);
+    a->ptex_of_face[nf] = ptex.GetNumFaces();
+    const auto& st = *r->stencils;
+    const int ns = st.GetNumStencils();
+    const auto& sizes = st.GetSizes();
+    const auto& offsets = st.GetOffsets();
+    const auto& indices = st.GetControlIndices();
+    const auto& weights = st.GetWeights();
+    int packed = 0;
+    for (int s = 0; s < ns; ++s) {
+      a->stencil_offsets[s] = packed;
+      std::copy(indices.begin() + offsets[s], indices.begin() + offsets[s] + sizes[s],
+                a->stencil_indices + packed);
+      std::copy(weights.begin() + offsets[s], weights.begin() + offsets[s] + sizes[s],
+                a->stencil_weights + packed);
+      packed += sizes[s];
+    }
+    a->stencil_offsets[ns] = packed;
+    return "";
+  });
+}
+
+extern "C" int surfkit_osd_patches_evaluate_basis(const surfkit_osd_patches* r, int n,
+                                                  const int* patch, const double* u,
+                                                  const double* v, double* weights,
+                                                  char** error) {
+  return guarded(error, [&]() -> std::string {
+    if (!r || (n > 0 && (!patch || !u || !v || !weights))) return "null pointer";
+    const int np = static_cast<int>(r->handles.size());
+    for (int i = 0; i < n; ++i) {
+      if (patch[i] < 0 || patch[i] >= np)
+        return "patch index " + std::to_string(patch[i]) + " out of range";
+      double* w = weights + 96 * i;
+      r->table->EvaluateBasis(r->handles[patch[i]], u[i], v[i], w, w + 16, w + 32, w + 48,
+                              w + 64, w + 80);
+    }
+    return "";
+  });
+}
+
+extern "C" void surfkit_osd_patches_destroy(surfkit_osd_patches* r) { delete r; }

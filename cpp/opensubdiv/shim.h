@@ -1,7 +1,10 @@
 /* surfkit's plain-C shim over OpenSubdiv (Far). Opaque handles, POD structs of counts and
  * pointers, an int status (0 = success) plus an error message that the caller frees once
  * with surfkit_osd_free_message. Every function catches all C++ exceptions. bindgen reads
- * this header only. */
+ * this header only.
+ *
+ * Bulk data crosses in one call per array: the caller first creates a handle (which reports
+ * the counts), allocates arrays of those sizes and then copies everything out at once. */
 #ifndef SURFKIT_OSD_SHIM_H
 #define SURFKIT_OSD_SHIM_H
 
@@ -18,6 +21,107 @@ int surfkit_osd_self_test(char** error);
 
 /* Frees a message returned by the shim (NULL is allowed). */
 void surfkit_osd_free_message(char* message);
+
+/* A control mesh for Catmull–Clark (Sdc::SCHEME_CATMARK) with its sharp features and
+ * options. Arrays are borrowed for the duration of the call only. The option fields hold
+ * the integer values of OpenSubdiv's Sdc::Options enums. */
+typedef struct surfkit_osd_topology {
+  int num_vertices;
+  int num_faces;
+  const int* verts_per_face;    /* num_faces */
+  const int* face_vertices;     /* sum of verts_per_face */
+  int num_creases;
+  const int* crease_vertex_pairs; /* 2 * num_creases */
+  const float* crease_sharpness;  /* num_creases */
+  int num_corners;
+  const int* corner_vertices;     /* num_corners */
+  const float* corner_sharpness;  /* num_corners */
+  /* Face-varying channel (UVs): num_fvar_values == 0 means none; otherwise fvar_indices
+   * runs parallel to face_vertices. */
+  int num_fvar_values;
+  const int* fvar_indices;
+  int vtx_boundary_interpolation; /* Sdc::Options::VtxBoundaryInterpolation */
+  int fvar_linear_interpolation;  /* Sdc::Options::FVarLinearInterpolation */
+  int creasing_method;            /* Sdc::Options::CreasingMethod */
+  int triangle_subdivision;       /* Sdc::Options::TriangleSubdivision */
+} surfkit_osd_topology;
+
+/* ---- Uniform refinement ---------------------------------------------------------------- */
+
+typedef struct surfkit_osd_uniform surfkit_osd_uniform;
+
+typedef struct surfkit_osd_uniform_counts {
+  int num_vertices;    /* vertices of the last level */
+  int num_faces;       /* quads of the last level */
+  int num_fvar_values; /* face-varying values of the last level (0 without a channel) */
+} surfkit_osd_uniform_counts;
+
+/* Builds the refiner and refines uniformly `levels` times (1..=10); reports the counts of
+ * the last level. On success *out owns the refiner; destroy it with
+ * surfkit_osd_uniform_destroy. */
+int surfkit_osd_uniform_create(const surfkit_osd_topology* topology, int levels,
+                               surfkit_osd_uniform** out, surfkit_osd_uniform_counts* counts,
+                               char** error);
+
+/* Interpolates positions (3 doubles per control vertex) and, with a face-varying channel,
+ * its values (2 doubles per value) down to the last level, writing straight into the
+ * caller's arrays sized from the counts: out_positions (3 per vertex), out_face_vertices
+ * (4 per face), out_fvar_values (2 per value) and out_fvar_indices (4 per face); the fvar
+ * pointers may be NULL without a channel. */
+int surfkit_osd_uniform_copy(const surfkit_osd_uniform* refined, const double* positions,
+                             const double* fvar_values, double* out_positions,
+                             int* out_face_vertices, double* out_fvar_values,
+                             int* out_fvar_indices, char** error);
+
+void surfkit_osd_uniform_destroy(surfkit_osd_uniform* refined);
+
+/* ---- Adaptive patch table (B-spline end caps) ------------------------------------------ */
+
+typedef struct surfkit_osd_patches surfkit_osd_patches;
+
+typedef struct surfkit_osd_patch_counts {
+  int num_patches;
+  int num_ptex_faces;        /* quads count once, an n-gon n times (Far::PtexIndices) */
+  int num_control_vertices;  /* vertices of the control mesh */
+  int num_patch_points;      /* size of the point index space of patch_points (all levels +
+                                local points); indices >= num_control_vertices have stencils */
+  int num_stencil_weights;   /* total entries of the stencils */
+} surfkit_osd_patch_counts;
+
+/* Arrays the caller allocates from the counts (every pointer required). */
+typedef struct surfkit_osd_patch_arrays {
+  int* patch_points;     /* 16 per patch, row-major 4x4 (u fastest), into the point space */
+  int* ptex_face;        /* per patch */
+  int* depth;            /* per patch: refinement level of the patch */
+  int* boundary_mask;    /* per patch: bit 0 v=0, bit 1 u=1, bit 2 v=1, bit 3 u=0 */
+  int* is_regular;       /* per patch: 1 regular B-spline patch, 0 end cap */
+  double* u0;            /* per patch: lower-left corner of its square in the ptex face */
+  double* v0;
+  double* size;          /* per patch: side length of its square */
+  int* ptex_of_face;     /* num_faces + 1 offsets: ptex faces of base face f */
+  int* stencil_offsets;  /* num_patch_points - num_control_vertices + 1 offsets */
+  int* stencil_indices;  /* num_stencil_weights control-vertex indices */
+  double* stencil_weights;
+} surfkit_osd_patch_arrays;
+
+/* Refines adaptively up to max_isolation (1..=10) and builds the patch table with
+ * ENDCAP_BSPLINE_BASIS end caps in double precision, plus the stencils of every patch point
+ * in terms of the control vertices. */
+int surfkit_osd_patches_create(const surfkit_osd_topology* topology, int max_isolation,
+                               surfkit_osd_patches** out, surfkit_osd_patch_counts* counts,
+                               char** error);
+
+int surfkit_osd_patches_copy(const surfkit_osd_patches* patches,
+                             const surfkit_osd_patch_arrays* arrays, char** error);
+
+/* OpenSubdiv's Far::PatchTable::EvaluateBasis for n points (patch index, u, v in the
+ * patch's ptex face): writes 6 * 16 weights per point in the order P, Du, Dv, Duu, Duv,
+ * Dvv (weights of the 16 patch points, boundary mask applied). */
+int surfkit_osd_patches_evaluate_basis(const surfkit_osd_patches* patches, int n,
+                                       const int* patch, const double* u, const double* v,
+                                       double* weights, char** error);
+
+void surfkit_osd_patches_destroy(surfkit_osd_patches* patches);
 
 #ifdef __cplusplus
 }

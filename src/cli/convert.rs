@@ -3,7 +3,6 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use crate::error::Error;
 use crate::mesh::io::{read_with, write, PlyEncoding, ReadOptions, WriteOptions};
 
 #[derive(clap::Args, Debug)]
@@ -24,12 +23,7 @@ pub struct ConvertArgs {
 }
 
 pub fn run(args: &ConvertArgs) -> crate::Result<ExitCode> {
-    if same_file(&args.input, &args.output) {
-        return Err(Error::InvalidInput(format!(
-            "{}: refusing to write over the input file",
-            args.output.display()
-        )));
-    }
+    super::refuse_overwrite(&args.input, &args.output)?;
     let mesh = read_with(
         &args.input,
         &ReadOptions {
@@ -59,11 +53,4 @@ pub fn run(args: &ConvertArgs) -> crate::Result<ExitCode> {
         );
     }
     Ok(ExitCode::SUCCESS)
-}
-
-fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => false,
-    }
 }

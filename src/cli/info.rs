@@ -53,7 +53,7 @@ pub fn render(path: &std::path::Path, format: Format, s: &MeshSummary) -> String
         .iter()
         .map(|(n, c)| format!("{c} with {n} corners"))
         .collect();
-    let _ = writeln!(out, "{} ({format:?})", path.display());
+    let _ = writeln!(out, "{} ({format})", path.display());
     let _ = writeln!(
         out,
         "  vertices {}  faces {} ({})",

@@ -2,7 +2,10 @@
 
 mod convert;
 mod demo;
+mod eat;
 mod info;
+mod limit;
+mod subdivide;
 
 use std::process::ExitCode;
 
@@ -23,6 +26,12 @@ enum Command {
     Info(info::InfoArgs),
     /// Converts between OBJ, PLY (binary by default) and OFF.
     Convert(convert::ConvertArgs),
+    /// The Euler Accompanying Test: V, E, F, χ at test points, and every topological flaw.
+    Eat(eat::EatArgs),
+    /// Uniform Catmull–Clark refinement with OpenSubdiv (quads and refined UVs out).
+    Subdivide(subdivide::SubdivideArgs),
+    /// Limit-surface samples with mean curvature as quality (a curvature map for MeshLab).
+    Limit(limit::LimitArgs),
     /// Runs surfkit on its built-in example and writes the results to a folder.
     Demo(demo::DemoArgs),
 }
@@ -34,6 +43,9 @@ pub fn main() -> ExitCode {
         Command::Info(a) => info::run(a),
         Command::Convert(a) => convert::run(a),
         Command::Demo(a) => demo::run(a),
+        Command::Eat(a) => eat::run(a),
+        Command::Subdivide(a) => subdivide::run(a).map(|()| ExitCode::SUCCESS),
+        Command::Limit(a) => limit::run(a).map(|()| ExitCode::SUCCESS),
     };
     match result {
         Ok(code) => code,
@@ -41,6 +53,17 @@ pub fn main() -> ExitCode {
             eprintln!("surfkit: error: {e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// An error when `output` names the same file as `input`: surfkit never writes over its input.
+fn refuse_overwrite(input: &std::path::Path, output: &std::path::Path) -> crate::Result<()> {
+    match (input.canonicalize(), output.canonicalize()) {
+        (Ok(a), Ok(b)) if a == b => Err(crate::Error::InvalidInput(format!(
+            "{}: refusing to write over the input file",
+            output.display()
+        ))),
+        _ => Ok(()),
     }
 }
 

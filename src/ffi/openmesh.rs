@@ -46,6 +46,15 @@ pub mod bridge {
             input_id: u32,
             message: &mut String,
         ) -> Result<u8>;
+        fn add_faces(
+            self: Pin<&mut HalfEdgeMesh>,
+            offsets: &[u32],
+            indices: &[u32],
+            first_input_id: u32,
+            status: &mut Vec<u8>,
+            messages: &mut String,
+        ) -> Result<()>;
+        fn add_vertices(self: Pin<&mut HalfEdgeMesh>, positions: &[f64]) -> Result<()>;
         fn write_with_openmesh(self: &HalfEdgeMesh, path: &str) -> Result<()>;
     }
 }

@@ -125,6 +125,39 @@ impl OpenMeshHalfEdge {
         Ok((FaceStatus::from_code(code), message))
     }
 
+    /// Adds faces in one call (offsets + corners, ids `first_input_id`, `first_input_id + 1`,
+    /// …): what happened to each and what OpenMesh said.
+    ///
+    /// # Errors
+    /// [`Error::Ffi`] when the offsets are malformed or a corner names no vertex.
+    pub fn add_faces(
+        &mut self,
+        offsets: &[u32],
+        corners: &[u32],
+        first_input_id: u32,
+    ) -> Result<(Vec<FaceStatus>, String)> {
+        let (mut codes, mut messages) = (Vec::new(), String::new());
+        self.inner
+            .pin_mut()
+            .add_faces(offsets, corners, first_input_id, &mut codes, &mut messages)
+            .map_err(ffi_error)?;
+        Ok((
+            codes.into_iter().map(FaceStatus::from_code).collect(),
+            messages,
+        ))
+    }
+
+    /// Appends vertices (ids continue after the existing ones).
+    ///
+    /// # Errors
+    /// [`Error::Ffi`] when `positions` is not made of triples.
+    pub fn add_vertices(&mut self, positions: &[[f64; 3]]) -> Result<()> {
+        self.inner
+            .pin_mut()
+            .add_vertices(positions.as_flattened())
+            .map_err(ffi_error)
+    }
+
     /// Writes the mesh with OpenMesh's own exporter (a cross-check of surfkit's writers).
     ///
     /// # Errors

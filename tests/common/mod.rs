@@ -30,3 +30,17 @@ pub fn count(record: &Value, field: &str) -> usize {
         .unwrap_or_else(|| panic!("REFERENCE.json has no count {field} for {}", record["file"]))
         as usize
 }
+
+/// The Python with the peers (pymeshlab, trimesh) that `scripts/setup.sh` installs:
+/// `SURFKIT_PYTHON`, or the repository's `.venv`.
+pub fn peer_python() -> PathBuf {
+    if let Ok(p) = std::env::var("SURFKIT_PYTHON") {
+        return PathBuf::from(p);
+    }
+    let venv = Path::new(env!("CARGO_MANIFEST_DIR")).join(".venv/bin/python");
+    assert!(
+        venv.exists(),
+        "no Python with pymeshlab: run the tests through scripts/setup.sh (it makes .venv), or set SURFKIT_PYTHON"
+    );
+    venv
+}

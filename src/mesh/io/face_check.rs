@@ -1,9 +1,14 @@
 //! The checks every reader applies to a face as it is read.
 
-/// Why a face is degenerate, if it is: fewer than 3 corners, or a vertex repeated.
-/// `base` is the numbering the file uses (0 for PLY and OFF, 1 for OBJ), so that the
-/// message shows the repeated vertex as the user wrote it.
-pub fn degeneracy(corners: &[u32], base: i64) -> Option<String> {
+/// Why a face is degenerate, if it is: fewer than 3 corners, or a vertex repeated (shown
+/// as a 0-based index).
+pub fn degeneracy(corners: &[u32]) -> Option<String> {
+    degeneracy_as_written(corners, 0)
+}
+
+/// [`degeneracy`] for a reader: `base` is the numbering the file uses (0 for PLY and OFF,
+/// 1 for OBJ), so that the message shows the repeated vertex as the user wrote it.
+pub fn degeneracy_as_written(corners: &[u32], base: i64) -> Option<String> {
     if corners.len() < 3 {
         return Some(format!(
             "a face needs at least 3 vertices, this one has {}",
@@ -56,24 +61,24 @@ mod tests {
 
     #[test]
     fn finds_repeats_short_and_long() {
-        assert!(degeneracy(&[0, 1, 2], 0).is_none());
+        assert!(degeneracy(&[0, 1, 2]).is_none());
         assert_eq!(
-            degeneracy(&[0, 1], 0).unwrap(),
+            degeneracy(&[0, 1]).unwrap(),
             "a face needs at least 3 vertices, this one has 2"
         );
         assert_eq!(
-            degeneracy(&[0, 1, 0], 0).unwrap(),
+            degeneracy(&[0, 1, 0]).unwrap(),
             "vertex index 0 is repeated in the face"
         );
         assert_eq!(
-            degeneracy(&[0, 1, 0], 1).unwrap(),
+            degeneracy_as_written(&[0, 1, 0], 1).unwrap(),
             "vertex index 1 is repeated in the face"
         );
         let mut long: Vec<u32> = (0..40).collect();
-        assert!(degeneracy(&long, 0).is_none());
+        assert!(degeneracy(&long).is_none());
         long.push(17);
         assert_eq!(
-            degeneracy(&long, 0).unwrap(),
+            degeneracy(&long).unwrap(),
             "vertex index 17 is repeated in the face"
         );
     }

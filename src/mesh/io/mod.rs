@@ -10,6 +10,7 @@ mod face_check;
 mod obj;
 mod off;
 mod ply;
+mod ply_fast;
 mod text;
 
 use std::path::Path;
@@ -18,14 +19,26 @@ use crate::error::{Error, Result};
 use crate::mesh::PolygonMesh;
 
 pub use atomic::write_atomically;
+pub use face_check::degeneracy;
 pub use ply::PlyEncoding;
 
 /// The mesh file formats surfkit reads and writes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "UPPERCASE")]
 pub enum Format {
     Obj,
     Ply,
     Off,
+}
+
+impl std::fmt::Display for Format {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Format::Obj => "OBJ",
+            Format::Ply => "PLY",
+            Format::Off => "OFF",
+        })
+    }
 }
 
 impl Format {

@@ -10,7 +10,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::face_check::{degeneracy, out_of_range};
+use super::face_check::{degeneracy_as_written, out_of_range};
 use super::text::{parse_f64, parse_i64, show, tokens, write_f64, Lines};
 use super::ReadOptions;
 use crate::error::{Error, Location, Result};
@@ -230,7 +230,7 @@ fn finish(mut b: ObjBuilder, path: &Path, options: &ReadOptions) -> Result<Polyg
         let start = indices.len();
         indices.extend(corners.iter().map(|&i| i as u32));
         if !options.keep_degenerate {
-            if let Some(m) = degeneracy(&indices[start..], 1) {
+            if let Some(m) = degeneracy_as_written(&indices[start..], 1) {
                 return Err(Error::parse(path, Location::Line(line), m));
             }
         }
@@ -274,9 +274,9 @@ pub fn write(out: &mut dyn Write, mesh: &PolygonMesh) -> std::io::Result<()> {
             write_f64(out, c)?;
         }
         if let Some(colors) = &mesh.colors {
-            for &k in &colors[i][..3] {
+            for &channel in &colors[i][..3] {
                 out.write_all(b" ")?;
-                write_f64(out, f64::from(k) / 255.0)?;
+                write_f64(out, f64::from(channel) / 255.0)?;
             }
         }
         out.write_all(b"\n")?;

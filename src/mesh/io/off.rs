@@ -9,7 +9,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::face_check::{degeneracy, out_of_range};
+use super::face_check::{degeneracy_as_written, out_of_range};
 use super::text::{parse_f64, parse_i64, show, strip_comment, tokens, write_f64, Lines};
 use super::ReadOptions;
 use crate::error::{Error, Location, Result};
@@ -208,7 +208,7 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                 ));
             }
             if !options.keep_degenerate {
-                if let Some(m) = degeneracy(&mesh.face_indices[start..], 0) {
+                if let Some(m) = degeneracy_as_written(&mesh.face_indices[start..], 0) {
                     return Err(err(n, format!("face {f}: {m}")));
                 }
             }

@@ -14,7 +14,8 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::face_check::{degeneracy, out_of_range};
+use super::face_check::{degeneracy_as_written, out_of_range};
+use super::ply_fast;
 use super::text::{parse_f64, show, tokens, Lines};
 use super::ReadOptions;
 use crate::error::{Error, Location, Result};
@@ -53,6 +54,20 @@ impl Scalar {
             "double" | "float64" => Scalar::F64,
             _ => return None,
         })
+    }
+
+    fn size(self) -> usize {
+        match self {
+            Scalar::I8 | Scalar::U8 => 1,
+            Scalar::I16 | Scalar::U16 => 2,
+            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
+            Scalar::F64 => 8,
+        }
+    }
+
+    /// Position in `ply_fast`'s decoder table.
+    fn index(self) -> usize {
+        self as usize
     }
 
     fn is_integer(self) -> bool {
@@ -364,9 +379,7 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
     }
 
     let mut mesh = PolygonMesh::default();
-    let mut quality = Vec::new();
-    let mut colors = Vec::new();
-    let mut vertex_uv = Vec::new();
+    let mut vertices = VertexArrays::default();
     let mut wedge_uv = CornerUvs::default();
     let mut objects = FaceLabels::default();
     let mut groups = FaceLabels::default();
@@ -396,12 +409,76 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             continue;
         }
         if is_vertex {
-            mesh.positions.reserve_exact(element.count.min(room));
+            vertices.positions.reserve_exact(element.count.min(room));
         }
-        if is_face {
+        // Binary fast paths for the common layouts (see ply_fast).
+        let big_endian = header.encoding == PlyEncoding::BinaryBigEndian;
+        if header.encoding != PlyEncoding::Ascii && is_vertex && all_scalar(element) {
+            let (offsets, decode, stride) = fixed_layout(element, big_endian);
+            let start = binary.pos;
+            binary.pos = ply_fast::read_fixed_records(
+                bytes,
+                start,
+                element.count,
+                stride,
+                &offsets,
+                &decode,
+                |_, slots| vertices.push(&roles, element, slots),
+            )
+            .map_err(|(index, m)| {
+                Error::parse(
+                    path,
+                    Location::Element {
+                        kind: element.name.clone(),
+                        index,
+                        byte_offset: start + index * stride,
+                    },
+                    m,
+                )
+            })?;
+            continue;
+        }
+        if header.encoding != PlyEncoding::Ascii && is_face && fast_face(element, roles.corners) {
+            let Kind::List { count, item } = element.properties[roles.corners].kind else {
+                unreachable!("fast_face checked the corner list")
+            };
             mesh.face_offsets.reserve_exact(element.count.min(room));
             mesh.face_indices
                 .reserve(element.count.min(room).saturating_mul(3));
+            let keep = options.keep_degenerate;
+            binary.pos = ply_fast::read_list_faces(
+                bytes,
+                binary.pos,
+                element.count,
+                (ply_fast::decoder(count.index(), big_endian), count.size()),
+                (ply_fast::decoder(item.index(), big_endian), item.size()),
+                vertex_count,
+                &mut mesh.face_indices,
+                &mut mesh.face_offsets,
+                |corners| {
+                    if keep {
+                        None
+                    } else {
+                        degeneracy_as_written(corners, 0)
+                    }
+                },
+            )
+            .map_err(|(index, byte_offset, m)| {
+                Error::parse(
+                    path,
+                    Location::Element {
+                        kind: element.name.clone(),
+                        index,
+                        byte_offset,
+                    },
+                    m,
+                )
+            })?;
+            continue;
+        }
+        if is_face {
+            mesh.face_offsets.reserve_exact(element.count);
+            mesh.face_indices.reserve(element.count * 3);
         }
         for index in 0..element.count {
             let byte_offset = binary.pos;
@@ -454,37 +531,6 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                     ));
                 }
                 Some(n)
-            } else if is_face && fast_face(element, roles.corners) {
-                // Fast path for the common layout: only the corner list.
-                let Kind::List { count, item } = element.properties[roles.corners].kind else {
-                    unreachable!()
-                };
-                let n = binary.scalar(count).map_err(|m| located(None, m))?;
-                if n < 0.0 {
-                    return Err(located(
-                        None,
-                        format!(
-                            "list {:?} has a negative length {n}",
-                            element.properties[roles.corners].name
-                        ),
-                    ));
-                }
-                let start = mesh.face_indices.len();
-                for _ in 0..n as usize {
-                    let i = binary.scalar(item).map_err(|m| located(None, m))?;
-                    let i = corner_index(i).map_err(|m| located(None, m))?;
-                    if let Some(m) = out_of_range(i, vertex_count, 0) {
-                        return Err(located(None, m));
-                    }
-                    mesh.face_indices.push(i as u32);
-                }
-                if !options.keep_degenerate {
-                    if let Some(m) = degeneracy(&mesh.face_indices[start..], 0) {
-                        return Err(located(None, m));
-                    }
-                }
-                mesh.face_offsets.push(mesh.face_indices.len() as u32);
-                continue;
             } else {
                 read_instance(element, &mut binary, &mut slots, &mut lists)
                     .map_err(|m| located(None, m))?;
@@ -492,40 +538,7 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             };
             let fail = |m: String| located(line_number, m);
             if is_vertex {
-                let p = [
-                    slots[roles.xyz[0]],
-                    slots[roles.xyz[1]],
-                    slots[roles.xyz[2]],
-                ];
-                if !p.iter().all(|c| c.is_finite()) {
-                    return Err(fail(format!("coordinates {p:?} are not finite")));
-                }
-                mesh.positions.push(p);
-                if let Some(q) = roles.quality {
-                    let q = slots[q];
-                    if !q.is_finite() {
-                        return Err(fail(format!("quality {q} is not finite")));
-                    }
-                    quality.push(q);
-                }
-                if let Some(rgba) = roles.rgba {
-                    if let Some(c) = rgba
-                        .iter()
-                        .flatten()
-                        .map(|&k| slots[k])
-                        .find(|c| !c.is_finite())
-                    {
-                        return Err(fail(format!("colour value {c} is not finite")));
-                    }
-                    colors.push(rgba_of(element, &slots, rgba));
-                }
-                if let Some([u, v]) = roles.vertex_uv {
-                    let uv = [slots[u], slots[v]];
-                    if !uv.iter().all(|c| c.is_finite()) {
-                        return Err(fail(format!("texture coordinates {uv:?} are not finite")));
-                    }
-                    vertex_uv.push(uv);
-                }
+                vertices.push(&roles, element, &slots).map_err(fail)?;
             } else if is_face {
                 let start = mesh.face_indices.len();
                 for &i in &lists[roles.corners] {
@@ -536,7 +549,7 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                     mesh.face_indices.push(i as u32);
                 }
                 if !options.keep_degenerate {
-                    if let Some(m) = degeneracy(&mesh.face_indices[start..], 0) {
+                    if let Some(m) = degeneracy_as_written(&mesh.face_indices[start..], 0) {
                         return Err(fail(m));
                     }
                 }
@@ -604,17 +617,18 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             ),
         ));
     }
+    mesh.positions = vertices.positions;
     if roles.quality.is_some() {
-        mesh.quality = Some(quality);
+        mesh.quality = Some(vertices.quality);
     }
     if roles.rgba.is_some() {
-        mesh.colors = Some(colors);
+        mesh.colors = Some(vertices.colors);
     }
     if roles.texcoord.is_some() && face.is_some() {
         mesh.uvs = Some(wedge_uv);
     } else if roles.vertex_uv.is_some() {
         mesh.uvs = Some(CornerUvs {
-            coords: vertex_uv,
+            coords: vertices.uv,
             corner_indices: mesh.face_indices.clone(),
         });
     }
@@ -640,6 +654,83 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
         *slot = Some(labels);
     }
     Ok(mesh)
+}
+
+/// The vertex columns surfkit keeps, filled record by record.
+#[derive(Default)]
+struct VertexArrays {
+    positions: Vec<[f64; 3]>,
+    quality: Vec<f64>,
+    colors: Vec<[u8; 4]>,
+    uv: Vec<[f64; 2]>,
+}
+
+impl VertexArrays {
+    /// Stores one vertex record whose property values are `slots`.
+    fn push(
+        &mut self,
+        roles: &Roles,
+        element: &Element,
+        slots: &[f64],
+    ) -> std::result::Result<(), String> {
+        let p = [
+            slots[roles.xyz[0]],
+            slots[roles.xyz[1]],
+            slots[roles.xyz[2]],
+        ];
+        if !p.iter().all(|c| c.is_finite()) {
+            return Err(format!("coordinates {p:?} are not finite"));
+        }
+        self.positions.push(p);
+        if let Some(q) = roles.quality {
+            let q = slots[q];
+            if !q.is_finite() {
+                return Err(format!("quality {q} is not finite"));
+            }
+            self.quality.push(q);
+        }
+        if let Some(rgba) = roles.rgba {
+            if let Some(c) = rgba
+                .iter()
+                .flatten()
+                .map(|&k| slots[k])
+                .find(|c| !c.is_finite())
+            {
+                return Err(format!("colour value {c} is not finite"));
+            }
+            self.colors.push(rgba_of(element, slots, rgba));
+        }
+        if let Some([u, v]) = roles.vertex_uv {
+            let uv = [slots[u], slots[v]];
+            if !uv.iter().all(|c| c.is_finite()) {
+                return Err(format!("texture coordinates {uv:?} are not finite"));
+            }
+            self.uv.push(uv);
+        }
+        Ok(())
+    }
+}
+
+fn all_scalar(element: &Element) -> bool {
+    element
+        .properties
+        .iter()
+        .all(|p| matches!(p.kind, Kind::Scalar(_)))
+}
+
+/// Offsets, decoders and record size of an element of scalar properties only.
+fn fixed_layout(element: &Element, big_endian: bool) -> (Vec<usize>, Vec<ply_fast::Decode>, usize) {
+    let mut offsets = Vec::new();
+    let mut decode = Vec::new();
+    let mut stride = 0;
+    for p in &element.properties {
+        if let Kind::Scalar(t) = p.kind {
+            offsets.push(stride);
+            decode.push(ply_fast::decoder(t.index(), big_endian));
+            stride += t.size();
+        }
+    }
+    (offsets, decode, stride)
 }
 
 /// A corner's vertex index as read (any numeric type): an error unless it is an integer.
@@ -920,7 +1011,7 @@ mod tests {
         let mut body = triangle_vertices();
         body.push(0xff); // -1 as char
         let (location, m) = message(&binary(&header, &body));
-        assert_eq!(m, "list \"vertex_indices\" has a negative length -1");
+        assert_eq!(m, "the face has a negative corner count -1");
         assert!(matches!(location, Location::Element { ref kind, index: 0, .. } if kind == "face"));
     }
 

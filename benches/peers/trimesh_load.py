@@ -1,0 +1,32 @@
+"""Times trimesh loading a mesh file (process=False: no merging, as surfkit reads).
+
+Usage: trimesh_load.py FILE REPEATS  ->  prints one JSON line with the median and minimum
+seconds of REPEATS loads (after one warm-up) and the loaded counts.
+"""
+import json
+import statistics
+import sys
+import time
+
+import trimesh
+
+
+def main():
+    path, repeats = sys.argv[1], int(sys.argv[2])
+    mesh = trimesh.load(path, process=False)
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        mesh = trimesh.load(path, process=False)
+        times.append(time.perf_counter() - t0)
+    print(json.dumps({
+        "median_s": statistics.median(times),
+        "min_s": min(times),
+        "vertices": int(len(mesh.vertices)),
+        "faces": int(len(mesh.faces)),
+        "trimesh": trimesh.__version__,
+    }))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Sets up a Debian 12 machine (as root) for surfkit, then runs the command given, if any:
+#   bash scripts/setup.sh cargo test --release
+# Installs, only when missing: a C++ compiler, libclang (for bindgen), OpenMesh
+# (libopenmesh-dev), OpenSubdiv (libosd-dev), CGAL headers (libcgal-dev, cross-checks),
+# a Rust toolchain (rustup) when cargo is not on PATH, and the Python peers the
+# cross-checks and benches compare with (pymeshlab, trimesh, numpy) in .venv, which the
+# command finds through SURFKIT_PYTHON.
+set -euo pipefail
+export DEBIAN_FRONTEND=noninteractive
+cd "$(dirname "$0")/.."
+
+packages=(build-essential pkg-config libclang-dev libopenmesh-dev libosd-dev libcgal-dev
+          python3 python3-venv python3-pip ca-certificates curl)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "surfkit setup: installing ${missing[*]}" >&2
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+if ! command -v cargo >/dev/null 2>&1; then
+  if [ -f "$HOME/.cargo/env" ]; then
+    . "$HOME/.cargo/env"
+  else
+    echo "surfkit setup: installing the Rust toolchain with rustup" >&2
+    curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal
+    . "$HOME/.cargo/env"
+  fi
+fi
+
+if [ ! -x .venv/bin/python ] || ! .venv/bin/python -c 'import pymeshlab, trimesh, numpy' >/dev/null 2>&1; then
+  echo "surfkit setup: installing pymeshlab, trimesh and numpy into .venv" >&2
+  /usr/bin/python3 -m venv .venv 2>/dev/null || python3 -m venv .venv
+  .venv/bin/python -m pip install -q --disable-pip-version-check pymeshlab trimesh numpy
+fi
+export SURFKIT_PYTHON="$PWD/.venv/bin/python"
+
+if [ $# -gt 0 ]; then
+  exec "$@"
+fi

@@ -1,0 +1,301 @@
+//! `surfkit eat <mesh>`: the Euler Accompanying Test and the flaw list.
+//!
+//! Exit status: 0 when every test point is verified and no `--fail-on` flaw is found,
+//! 3 when a test point fails or a `--fail-on` flaw is present, 1 on an error.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use crate::error::{Error, Result};
+use crate::mesh::io::{read_with, write, ReadOptions, WriteOptions};
+use crate::topology::{
+    mark_flaws, scan, stage_ends, test_points, EatOptions, EatReport, FlawKind, LocatorOptions,
+    StageSource, TargetTopology,
+};
+
+/// Exit status when the mesh fails the test.
+pub const TEST_FAILED: u8 = 3;
+
+#[derive(clap::Args, Debug)]
+pub struct EatArgs {
+    /// The mesh (.obj, .ply or .off).
+    pub mesh: PathBuf,
+    /// Test points at the end of each OBJ `g` group or `o` object.
+    #[arg(long, value_parser = ["groups", "objects"])]
+    pub stages: Option<String>,
+    /// Test points after these facet counts, e.g. 840,2410,5366.
+    #[arg(long, value_delimiter = ',', conflicts_with = "stages")]
+    pub test_points: Vec<usize>,
+    /// A test point every N facets.
+    #[arg(long, conflicts_with_all = ["stages", "test_points"])]
+    pub every: Option<usize>,
+    /// Expected χ per stage (or one value for the whole mesh), e.g. -1,0,1,2.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true, conflicts_with_all = ["target", "reference"])]
+    pub expect: Vec<i64>,
+    /// Target topology per stage, e.g. "genus=0,boundaries=3;genus=0" (χ = Σ 2 − 2g − b).
+    #[arg(long, conflicts_with = "reference")]
+    pub target: Option<String>,
+    /// A reference mesh whose χ the whole mesh must have.
+    #[arg(long)]
+    pub reference: Option<PathBuf>,
+    /// Distance under which distinct vertices count as coincident (default: same coordinates).
+    #[arg(long, default_value_t = 0.0)]
+    pub weld_tolerance: f64,
+    /// Exit with status 3 when flaws of these kinds are found (comma separated, or "any").
+    #[arg(long, value_delimiter = ',')]
+    pub fail_on: Vec<String>,
+    /// Write the mesh with flawed vertices coloured (and the flaw kind as quality) here.
+    #[arg(long)]
+    pub mark: Option<PathBuf>,
+    /// How many flaws and facets to list in the human summary.
+    #[arg(long, default_value_t = 20)]
+    pub show: usize,
+    /// Skip building the OpenMesh half-edge structure.
+    #[arg(long)]
+    pub no_halfedge: bool,
+    /// Print the JSON report (schema in README.md) instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn expected_chis(args: &EatArgs) -> Result<Vec<i64>> {
+    if !args.expect.is_empty() {
+        return Ok(args.expect.clone());
+    }
+    if let Some(t) = &args.target {
+        return t
+            .split(';')
+            .map(|s| TargetTopology::parse(s).map(|t| t.euler_characteristic()))
+            .collect();
+    }
+    if let Some(r) = &args.reference {
+        let reference = read_with(
+            r,
+            &ReadOptions {
+                keep_degenerate: true,
+            },
+        )?;
+        let report = scan(&reference, &EatOptions::default())?;
+        return Ok(vec![report.statistics.euler_characteristic]);
+    }
+    Ok(Vec::new())
+}
+
+fn fail_kinds(names: &[String]) -> Result<Vec<FlawKind>> {
+    let mut kinds = Vec::new();
+    for n in names {
+        if n == "any" {
+            kinds.extend(FlawKind::ALL);
+        } else {
+            kinds.push(FlawKind::from_name(n).ok_or_else(|| {
+                let all: Vec<&str> = FlawKind::ALL.iter().map(|k| k.name()).collect();
+                Error::InvalidInput(format!(
+                    "--fail-on: unknown flaw kind {n:?} (kinds: {}, any)",
+                    all.join(", ")
+                ))
+            })?);
+        }
+    }
+    Ok(kinds)
+}
+
+pub fn run(args: &EatArgs) -> Result<ExitCode> {
+    let fail_on = fail_kinds(&args.fail_on)?;
+    if args.weld_tolerance.is_nan() || args.weld_tolerance < 0.0 {
+        return Err(Error::InvalidInput(format!(
+            "--weld-tolerance {} must be 0 or more",
+            args.weld_tolerance
+        )));
+    }
+    let mesh = read_with(
+        &args.mesh,
+        &ReadOptions {
+            keep_degenerate: true,
+        },
+    )?;
+    let source = match (&args.stages, args.test_points.is_empty(), args.every) {
+        (Some(s), _, _) if s == "groups" => StageSource::Groups,
+        (Some(_), _, _) => StageSource::Objects,
+        (None, false, _) => StageSource::FacetCounts(args.test_points.clone()),
+        (None, true, Some(n)) => StageSource::Every(n),
+        _ => StageSource::Whole,
+    };
+    let ends = stage_ends(&mesh, &source)?;
+    let expected = expected_chis(args)?;
+    let options = EatOptions {
+        test_points: test_points(&ends, &expected)?,
+        locator: LocatorOptions {
+            weld_tolerance: args.weld_tolerance,
+            ..Default::default()
+        },
+        halfedge: !args.no_halfedge,
+    };
+    let report = scan(&mesh, &options)?;
+    if let Some(out) = &args.mark {
+        write(
+            out,
+            &mark_flaws(&mesh, &report.flaws),
+            &WriteOptions::default(),
+        )?;
+    }
+    let failing_kinds: Vec<FlawKind> = report
+        .flaw_counts()
+        .into_iter()
+        .map(|(k, _)| k)
+        .filter(|k| fail_on.contains(k))
+        .collect();
+    if args.json {
+        super::print_json(&serde_json::json!({
+            "file": args.mesh,
+            "verified": report.verified(),
+            "failing_flaw_kinds": failing_kinds,
+            "marked_mesh": args.mark,
+            "report": report,
+        }))?;
+    } else {
+        print!(
+            "{}",
+            render(&args.mesh.display().to_string(), &report, args.show)
+        );
+        if let Some(out) = &args.mark {
+            println!(
+                "wrote {} (flawed vertices coloured; quality = flaw kind number)",
+                out.display()
+            );
+        }
+    }
+    let failed = !report.verified() || !failing_kinds.is_empty();
+    Ok(if failed {
+        ExitCode::from(TEST_FAILED)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// The human summary: statistics in the paper's screenshot style, test points, components,
+/// and the flaws.
+pub fn render(name: &str, report: &EatReport, show: usize) -> String {
+    let mut out = String::new();
+    let s = &report.statistics;
+    let _ = writeln!(out, "EAT {name}");
+    let _ = writeln!(out, "vertex number ***{}***vertex number", s.vertices);
+    let _ = writeln!(out, "edge number ***{}***edge number", s.edges);
+    let _ = writeln!(out, "facet number ***{}***facet number", s.facets);
+    let _ = writeln!(
+        out,
+        "Euler characteristic***{}***Euler characteristic",
+        s.euler_characteristic
+    );
+    for (i, (point, c)) in report.checkpoints.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "test point {} \"{}\" after {} facets: V {} E {} F {} χ {} (expected {}) {}",
+            i + 1,
+            point.label,
+            point.facets,
+            c.statistics.vertices,
+            c.statistics.edges,
+            c.statistics.facets,
+            c.statistics.euler_characteristic,
+            c.expected_euler_characteristic,
+            if c.verified { "verified" } else { "FAILED" }
+        );
+    }
+    if let Some(i) = report.first_failure {
+        let c = &report.checkpoints[i].1;
+        let _ = writeln!(
+            out,
+            "first failing test point: {}; {} facets since the last verified point (after facet {}):",
+            i + 1,
+            c.since_last_verified.len(),
+            c.last_verified_facets
+        );
+        for d in c.since_last_verified.iter().take(show) {
+            let vs: String = d
+                .vertices
+                .iter()
+                .map(|(v, vc)| format!("{v}**{vc}**"))
+                .collect();
+            let es: Vec<String> = d
+                .edges
+                .iter()
+                .map(|(e, ec)| format!("{e}**{ec}**"))
+                .collect();
+            let _ = writeln!(
+                out,
+                "  facet {} (fc {}): {vs}  edges {}",
+                d.input_id,
+                d.fc,
+                es.join(" ")
+            );
+        }
+    }
+    let c = &report.counts;
+    let _ = writeln!(
+        out,
+        "components {}  boundary loops {} (walk {})  genus {}",
+        c.components,
+        c.boundary_loops,
+        c.boundary_loops_walk
+            .map_or("undefined".into(), |w| w.to_string()),
+        c.genus
+            .map_or("undefined (non-manifold)".into(), |g| g.to_string())
+    );
+    for (i, comp) in report.components.iter().enumerate().take(show) {
+        let _ = writeln!(
+            out,
+            "  component {i}: V {} E {} F {} χ {} loops {} {} genus {}",
+            comp.vertices,
+            comp.edges,
+            comp.facets,
+            comp.euler_characteristic,
+            comp.boundary_loops,
+            match comp.orientable {
+                Some(true) => "orientable",
+                Some(false) => "non-orientable",
+                None => "orientation undefined",
+            },
+            comp.genus.map_or("-".into(), |g| g.to_string())
+        );
+    }
+    if let Some(h) = &report.halfedge {
+        let _ = writeln!(
+            out,
+            "OpenMesh half-edge structure: {} facets accepted, {} refused",
+            h.accepted,
+            h.refused.len()
+        );
+    }
+    if report.flaws.is_empty() {
+        let _ = writeln!(out, "no flaws found");
+    } else {
+        let counts: Vec<String> = report
+            .flaw_counts()
+            .iter()
+            .map(|(k, n)| format!("{n} {}", k.name()))
+            .collect();
+        let _ = writeln!(out, "{} flaws: {}", report.flaws.len(), counts.join(", "));
+        for f in report.flaws.iter().take(show) {
+            let p = f.position;
+            let _ = writeln!(
+                out,
+                "  {} at ({:.6}, {:.6}, {:.6}): {}\n    fix: {}",
+                f.kind.name(),
+                p[0],
+                p[1],
+                p[2],
+                f.description,
+                f.suggested_fix
+            );
+        }
+        if report.flaws.len() > show {
+            let _ = writeln!(
+                out,
+                "  … {} more (--show N, or --json)",
+                report.flaws.len() - show
+            );
+        }
+    }
+    out
+}

@@ -1,0 +1,260 @@
+//! PNG pictures of a mesh coloured by its per-vertex quality (curvature maps, fit errors),
+//! for people who would rather look than read: a small z-buffered rasterizer with an
+//! oblique view, Lambert shading and a blue–white–red colour map.
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::mesh::io::write_atomically;
+use crate::mesh::PolygonMesh;
+
+/// Picture options.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RenderOptions {
+    pub width: u32,
+    pub height: u32,
+    /// Quality values mapped to the ends of the colour map; `None` uses the 2nd and 98th
+    /// percentiles, symmetric about 0 when the values change sign.
+    pub range: Option<(f64, f64)>,
+    /// Azimuth and elevation of the view direction, in degrees.
+    pub azimuth: f64,
+    pub elevation: f64,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions {
+            width: 800,
+            height: 600,
+            range: None,
+            azimuth: 35.0,
+            elevation: 30.0,
+        }
+    }
+}
+
+/// The colour of `t` in [0, 1] on a diverging blue–white–red map.
+pub fn diverging_color(t: f64) -> [f64; 3] {
+    let t = t.clamp(0.0, 1.0);
+    if t < 0.5 {
+        let s = t / 0.5;
+        [0.23 + 0.77 * s, 0.30 + 0.70 * s, 0.75 + 0.25 * s]
+    } else {
+        let s = (t - 0.5) / 0.5;
+        [1.0 - 0.29 * s, 1.0 - 0.98 * s, 1.0 - 0.85 * s]
+    }
+}
+
+/// The value range used for colouring (see [`RenderOptions::range`]).
+pub fn color_range(values: &[f64]) -> (f64, f64) {
+    let mut finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+    if finite.is_empty() {
+        return (0.0, 1.0);
+    }
+    finite.sort_by(f64::total_cmp);
+    let at = |q: f64| finite[((finite.len() - 1) as f64 * q).round() as usize];
+    let (lo, hi) = (at(0.02), at(0.98));
+    if lo < 0.0 && hi > 0.0 {
+        let m = lo.abs().max(hi);
+        (-m, m)
+    } else if hi > lo {
+        (lo, hi)
+    } else {
+        (lo - 0.5, lo + 0.5)
+    }
+}
+
+/// Renders `mesh` coloured by `mesh.quality` (grey without) into an RGB image, row-major.
+pub fn render_rgb(mesh: &PolygonMesh, options: &RenderOptions) -> Vec<u8> {
+    let (w, h) = (options.width as usize, options.height as usize);
+    let mut image = vec![255u8; w * h * 3];
+    let Some((lo, hi)) = mesh.bounding_box() else {
+        return image;
+    };
+    let (az, el) = (options.azimuth.to_radians(), options.elevation.to_radians());
+    // View basis: right, up, towards the viewer.
+    let toward = [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()];
+    let right = [-az.sin(), az.cos(), 0.0];
+    let up = cross(toward, right);
+    let center = [
+        0.5 * (lo[0] + hi[0]),
+        0.5 * (lo[1] + hi[1]),
+        0.5 * (lo[2] + hi[2]),
+    ];
+    let radius =
+        0.5 * ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt();
+    let scale = 0.95 * (w.min(h) as f64) / (2.0 * radius.max(f64::MIN_POSITIVE));
+    let project = |p: &[f64; 3]| {
+        let d = [p[0] - center[0], p[1] - center[1], p[2] - center[2]];
+        (
+            w as f64 / 2.0 + scale * dot(d, right),
+            h as f64 / 2.0 - scale * dot(d, up),
+            dot(d, toward),
+        )
+    };
+    let screen: Vec<(f64, f64, f64)> = mesh.positions.iter().map(project).collect();
+    let (qlo, qhi) = match (options.range, &mesh.quality) {
+        (Some(r), _) => r,
+        (None, Some(q)) => color_range(q),
+        (None, None) => (0.0, 1.0),
+    };
+    let vertex_color = |v: usize| match &mesh.quality {
+        Some(q) if q[v].is_finite() => diverging_color((q[v] - qlo) / (qhi - qlo)),
+        _ => [0.75, 0.75, 0.75],
+    };
+    let mut depth = vec![f64::NEG_INFINITY; w * h];
+    for face in mesh.faces() {
+        if face.len() < 3 {
+            continue;
+        }
+        // Face normal (Newell) for shading; both sides lit.
+        let mut n = [0.0; 3];
+        for k in 0..face.len() {
+            let (p, q) = (
+                mesh.positions[face[k] as usize],
+                mesh.positions[face[(k + 1) % face.len()] as usize],
+            );
+            n[0] += (p[1] - q[1]) * (p[2] + q[2]);
+            n[1] += (p[2] - q[2]) * (p[0] + q[0]);
+            n[2] += (p[0] - q[0]) * (p[1] + q[1]);
+        }
+        let len = dot(n, n).sqrt();
+        let light = if len > 0.0 {
+            0.35 + 0.65 * (dot(n, toward) / len).abs()
+        } else {
+            0.35
+        };
+        for k in 1..face.len() - 1 {
+            let tri = [face[0] as usize, face[k] as usize, face[k + 1] as usize];
+            fill_triangle(&screen, &tri, &mut depth, w, h, |px, b| {
+                let mut c = [0.0; 3];
+                for (i, &v) in tri.iter().enumerate() {
+                    let vc = vertex_color(v);
+                    for ch in 0..3 {
+                        c[ch] += b[i] * vc[ch];
+                    }
+                }
+                for ch in 0..3 {
+                    image[px * 3 + ch] = (255.0 * (c[ch] * light).clamp(0.0, 1.0)) as u8;
+                }
+            });
+        }
+    }
+    image
+}
+
+/// Rasterizes one triangle with a depth test, calling `shade(pixel, barycentrics)`.
+fn fill_triangle(
+    screen: &[(f64, f64, f64)],
+    tri: &[usize; 3],
+    depth: &mut [f64],
+    w: usize,
+    h: usize,
+    mut shade: impl FnMut(usize, [f64; 3]),
+) {
+    let [a, b, c] = tri.map(|i| screen[i]);
+    let area = (b.0 - a.0) * (c.1 - a.1) - (c.0 - a.0) * (b.1 - a.1);
+    if area.abs() < 1e-12 {
+        return;
+    }
+    let x0 = a.0.min(b.0).min(c.0).floor().max(0.0) as usize;
+    let x1 = (a.0.max(b.0).max(c.0).ceil() as usize).min(w.saturating_sub(1));
+    let y0 = a.1.min(b.1).min(c.1).floor().max(0.0) as usize;
+    let y1 = (a.1.max(b.1).max(c.1).ceil() as usize).min(h.saturating_sub(1));
+    for y in y0..=y1 {
+        for x in x0..=x1 {
+            let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
+            let wa = ((b.0 - px) * (c.1 - py) - (c.0 - px) * (b.1 - py)) / area;
+            let wb = ((c.0 - px) * (a.1 - py) - (a.0 - px) * (c.1 - py)) / area;
+            let wc = 1.0 - wa - wb;
+            if wa < 0.0 || wb < 0.0 || wc < 0.0 {
+                continue;
+            }
+            let z = wa * a.2 + wb * b.2 + wc * c.2;
+            let i = y * w + x;
+            if z > depth[i] {
+                depth[i] = z;
+                shade(i, [wa, wb, wc]);
+            }
+        }
+    }
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// Writes the picture of [`render_rgb`] as a PNG, atomically.
+///
+/// # Errors
+/// [`Error::Io`] when the file cannot be written; [`Error::InvalidInput`] for a zero size.
+pub fn render_png(mesh: &PolygonMesh, path: &Path, options: &RenderOptions) -> Result<()> {
+    if options.width == 0 || options.height == 0 {
+        return Err(Error::InvalidInput(
+            "a picture needs a width and height of at least 1".into(),
+        ));
+    }
+    let image = render_rgb(mesh, options);
+    write_atomically(path, |out| {
+        let mut encoder = png::Encoder::new(out, options.width, options.height);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder.write_header().map_err(std::io::Error::other)?;
+        writer
+            .write_image_data(&image)
+            .map_err(std::io::Error::other)?;
+        writer.finish().map_err(std::io::Error::other)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn colour_map_ends_and_middle() {
+        assert_eq!(diverging_color(0.5), [1.0, 1.0, 1.0]);
+        assert!(
+            diverging_color(0.0)[2] > diverging_color(0.0)[0],
+            "low values are blue"
+        );
+        assert!(
+            diverging_color(1.0)[0] > diverging_color(1.0)[2],
+            "high values are red"
+        );
+        assert_eq!(color_range(&[-1.0, 3.0, 0.5]), (-3.0, 3.0));
+    }
+
+    #[test]
+    fn a_square_fills_the_middle_of_the_picture() {
+        let mut m = PolygonMesh::from_polygons(
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+            ],
+            &[vec![0u32, 1, 2, 3]],
+        );
+        m.quality = Some(vec![1.0; 4]);
+        let options = RenderOptions {
+            width: 40,
+            height: 40,
+            azimuth: 0.0,
+            elevation: 90.0,
+            ..Default::default()
+        };
+        let img = render_rgb(&m, &options);
+        let at = |x: usize, y: usize| &img[(y * 40 + x) * 3..(y * 40 + x) * 3 + 3];
+        assert_ne!(at(20, 20), &[255, 255, 255], "the square covers the centre");
+        assert_eq!(at(0, 0), &[255, 255, 255], "the corner stays background");
+    }
+}

@@ -1,0 +1,487 @@
+//! The limit surface as bicubic B-spline patches: OpenSubdiv's feature-adaptive
+//! `Far::PatchTable` with `ENDCAP_BSPLINE_BASIS` end caps, in doubles.
+//!
+//! Every patch has 16 control points, each a fixed linear combination (a stencil) of the
+//! control mesh's vertices. Patches touching a boundary carry a boundary mask: OpenSubdiv
+//! stores only the points on the surface's side and folds the missing "phantom" row or
+//! column into the weights when it evaluates. [`PatchSurface::patch_weights`] reproduces
+//! those phantom points (a boundary row `P₀ = 2 P₁ − P₂`, applied left, top, right, bottom
+//! so that corners come out right — the transpose of Far's `BoundBasisBSpline`), so each
+//! exported patch is an ordinary 16-point bicubic B-spline patch.
+//!
+//! Parameters are OpenSubdiv's ptex faces: a quad is one ptex face, an n-gon (n ≠ 4) is
+//! split into n quads, each its own ptex face ([`PatchSurface::ptex_faces`]). A patch covers
+//! the square `[u0, u0 + size] × [v0, v0 + size]` of its ptex face.
+
+use std::ops::Range;
+
+use crate::error::{Error, Result};
+use crate::ffi::opensubdiv as ffi;
+use crate::mesh::PolygonMesh;
+use crate::subdiv::bspline::{eval_patch, Derivatives};
+use crate::subdiv::topology::ControlMesh;
+use crate::subdiv::SubdivOptions;
+
+/// Options of [`limit_surface`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct PatchOptions {
+    /// Levels of feature-adaptive refinement around extraordinary vertices and creases
+    /// (1..=10). Higher isolates irregular features into smaller end-cap patches: more
+    /// patches, closer to the true limit surface near extraordinary vertices.
+    pub max_isolation: u32,
+}
+
+impl Default for PatchOptions {
+    fn default() -> Self {
+        PatchOptions { max_isolation: 4 }
+    }
+}
+
+/// One bicubic B-spline patch of the limit surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Patch {
+    /// Ptex face the patch lies in.
+    pub ptex_face: u32,
+    /// Base (control mesh) face that ptex face belongs to.
+    pub base_face: u32,
+    /// Refinement level at which the patch was isolated.
+    pub depth: u32,
+    /// Bit 0: v = 0 edge on the boundary; bit 1: u = 1; bit 2: v = 1; bit 3: u = 0.
+    pub boundary_mask: u8,
+    /// A regular patch of the subdivision surface (exact); `false` for an end cap (a
+    /// B-spline approximation around an extraordinary vertex).
+    pub regular: bool,
+    /// The patch's square in its ptex face: `[u0, u0 + size] × [v0, v0 + size]`.
+    pub u0: f64,
+    pub v0: f64,
+    pub size: f64,
+}
+
+/// A point of the limit surface to evaluate: a ptex face and `(u, v) ∈ [0, 1]²` in it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfacePoint {
+    pub ptex_face: u32,
+    pub u: f64,
+    pub v: f64,
+}
+
+/// The limit surface of a control mesh as bicubic B-spline patches.
+pub struct PatchSurface {
+    control_points: Vec<[f64; 3]>,
+    patches: Vec<Patch>,
+    /// 16 patch-point ids per patch (OpenSubdiv's order; phantom slots unused).
+    patch_points: Vec<i32>,
+    /// Positions of all patch points (control vertices first, then stencil points).
+    point_positions: Vec<[f64; 3]>,
+    data: ffi::PatchData,
+    /// Patches of each ptex face.
+    patches_of_ptex: Vec<Vec<u32>>,
+    table: ffi::PatchTable,
+}
+
+/// Builds the limit surface of `mesh` with `options`' sharp features and rules.
+///
+/// Preconditions: those of [`crate::subdiv::refine_uniform`] (valid mesh, faces of ≥ 3
+/// corners, creases on edges) and `1 ≤ max_isolation ≤ 10`. With
+/// [`BoundaryInterpolation::None`](crate::subdiv::BoundaryInterpolation::None) boundary
+/// faces get no patches.
+///
+/// # Errors
+/// [`Error::InvalidInput`] for a failed precondition, [`Error::Ffi`] when OpenSubdiv
+/// refuses the topology or builds something other than B-spline patches.
+pub fn limit_surface(
+    mesh: &PolygonMesh,
+    options: &SubdivOptions,
+    patch_options: &PatchOptions,
+) -> Result<PatchSurface> {
+    if !(1..=10).contains(&patch_options.max_isolation) {
+        return Err(Error::InvalidInput(format!(
+            "max_isolation {} must be in 1..=10",
+            patch_options.max_isolation
+        )));
+    }
+    let control = ControlMesh::new(mesh, options, false)?;
+    let table = ffi::PatchTable::new(&control.topology(), patch_options.max_isolation as i32)?;
+    let data = table.data(control.face_count())?;
+    let ncv = data.num_control_vertices;
+    if ncv != mesh.vertex_count() || data.stencil_offsets.len() != data.num_patch_points - ncv + 1 {
+        return Err(Error::Ffi {
+            library: "OpenSubdiv",
+            message: "patch table counts disagree with the control mesh".into(),
+        });
+    }
+    // Indices from the shim are checked once here, so that evaluation can index freely.
+    let points_ok = data
+        .patch_points
+        .iter()
+        .all(|&i| i < data.num_patch_points as i32);
+    let stencils_ok = data
+        .stencil_indices
+        .iter()
+        .all(|&i| i >= 0 && (i as usize) < ncv)
+        && data
+            .stencil_offsets
+            .windows(2)
+            .all(|w| 0 <= w[0] && w[0] <= w[1])
+        && data.stencil_offsets.last().map(|&o| o as usize) == Some(data.stencil_indices.len());
+    let ptex_ok = data
+        .ptex_face
+        .iter()
+        .all(|&p| p >= 0 && (p as usize) < data.num_ptex_faces)
+        && data
+            .ptex_of_face
+            .windows(2)
+            .all(|w| 0 <= w[0] && w[0] <= w[1])
+        && data.ptex_of_face.last().map(|&o| o as usize) == Some(data.num_ptex_faces);
+    if !(points_ok && stencils_ok && ptex_ok) {
+        return Err(Error::Ffi {
+            library: "OpenSubdiv",
+            message: "patch table indices out of range".into(),
+        });
+    }
+    let face_of_ptex = {
+        let mut out = vec![0u32; data.num_ptex_faces];
+        for f in 0..control.face_count() {
+            for p in data.ptex_of_face[f]..data.ptex_of_face[f + 1] {
+                out[p as usize] = f as u32;
+            }
+        }
+        out
+    };
+    let np = data.ptex_face.len();
+    let mut patches = Vec::with_capacity(np);
+    let mut patches_of_ptex = vec![Vec::new(); data.num_ptex_faces];
+    for i in 0..np {
+        let ptex = data.ptex_face[i] as u32;
+        patches.push(Patch {
+            ptex_face: ptex,
+            base_face: face_of_ptex[ptex as usize],
+            depth: data.depth[i] as u32,
+            boundary_mask: data.boundary_mask[i] as u8,
+            regular: data.is_regular[i] != 0,
+            u0: data.u0[i],
+            v0: data.v0[i],
+            size: data.size[i],
+        });
+        patches_of_ptex[ptex as usize].push(i as u32);
+    }
+    let mut surface = PatchSurface {
+        control_points: mesh.positions.clone(),
+        patches,
+        patch_points: data.patch_points.clone(),
+        point_positions: Vec::new(),
+        data,
+        patches_of_ptex,
+        table,
+    };
+    surface.update_points();
+    Ok(surface)
+}
+
+/// Applies Far's boundary-mask rule to 16 values (points or weight rows): phantom row or
+/// column `P₀ = 2 P₁ − P₂`, in the order left, top, right, bottom.
+fn fill_phantoms<T: Clone>(mask: u8, p: &mut [T; 16], affine: impl Fn(&T, &T) -> T) {
+    if mask & 8 != 0 {
+        for r in (0..16).step_by(4) {
+            p[r] = affine(&p[r + 1], &p[r + 2]);
+        }
+    }
+    if mask & 4 != 0 {
+        for c in 0..4 {
+            p[12 + c] = affine(&p[8 + c], &p[4 + c]);
+        }
+    }
+    if mask & 2 != 0 {
+        for r in (0..16).step_by(4) {
+            p[r + 3] = affine(&p[r + 2], &p[r + 1]);
+        }
+    }
+    if mask & 1 != 0 {
+        for c in 0..4 {
+            p[c] = affine(&p[4 + c], &p[8 + c]);
+        }
+    }
+}
+
+impl PatchSurface {
+    fn update_points(&mut self) {
+        let ncv = self.data.num_control_vertices;
+        let d = &self.data;
+        let mut pts = self.control_points.clone();
+        pts.reserve(d.num_patch_points - ncv);
+        for s in 0..d.num_patch_points - ncv {
+            let (a, b) = (
+                d.stencil_offsets[s] as usize,
+                d.stencil_offsets[s + 1] as usize,
+            );
+            let mut p = [0.0; 3];
+            for e in a..b {
+                let q = self.control_points[d.stencil_indices[e] as usize];
+                let w = d.stencil_weights[e];
+                for k in 0..3 {
+                    p[k] += w * q[k];
+                }
+            }
+            pts.push(p);
+        }
+        self.point_positions = pts;
+    }
+
+    /// The patches, in OpenSubdiv's order.
+    pub fn patches(&self) -> &[Patch] {
+        &self.patches
+    }
+
+    /// The control mesh's vertex positions the surface is built on.
+    pub fn control_points(&self) -> &[[f64; 3]] {
+        &self.control_points
+    }
+
+    /// Moves the control vertices (same topology): patches follow through their stencils.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] if the count differs or a coordinate is not finite.
+    pub fn set_control_points(&mut self, positions: &[[f64; 3]]) -> Result<()> {
+        if positions.len() != self.control_points.len() {
+            return Err(Error::InvalidInput(format!(
+                "{} control points given, the surface has {}",
+                positions.len(),
+                self.control_points.len()
+            )));
+        }
+        if let Some(v) = positions
+            .iter()
+            .position(|p| !p.iter().all(|c| c.is_finite()))
+        {
+            return Err(Error::InvalidInput(format!(
+                "control point {v} is not finite"
+            )));
+        }
+        self.control_points = positions.to_vec();
+        self.update_points();
+        Ok(())
+    }
+
+    /// The ptex faces of base face `f`: one for a quad, n for an n-gon.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] if `f` is not a face.
+    pub fn ptex_faces(&self, f: usize) -> Result<Range<u32>> {
+        let o = &self.data.ptex_of_face;
+        if f + 1 >= o.len() {
+            return Err(Error::InvalidInput(format!("face {f} does not exist")));
+        }
+        Ok(o[f] as u32..o[f + 1] as u32)
+    }
+
+    pub fn ptex_face_count(&self) -> usize {
+        self.data.num_ptex_faces
+    }
+
+    /// The patches of ptex face `ptex` (none for a face without limit surface).
+    pub fn patches_of_ptex_face(&self, ptex: u32) -> &[u32] {
+        self.patches_of_ptex
+            .get(ptex as usize)
+            .map_or(&[], |v| v.as_slice())
+    }
+
+    /// The 16 control points of patch `p` as weights of control vertices: entry `k` lists
+    /// `(vertex, weight)` pairs whose weighted sum is control point `k` (row-major, u
+    /// fastest), phantom points included. This is also the derivative of the patch's
+    /// control points with respect to the control vertices.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] if `p` is not a patch.
+    pub fn patch_weights(&self, p: usize) -> Result<[Vec<(u32, f64)>; 16]> {
+        let patch = self.patch(p)?;
+        let ncv = self.data.num_control_vertices;
+        let d = &self.data;
+        let mut rows: [Vec<(u32, f64)>; 16] = std::array::from_fn(|_| Vec::new());
+        let phantom = phantom_slots(patch.boundary_mask);
+        for (k, row) in rows.iter_mut().enumerate() {
+            if phantom[k] {
+                continue;
+            }
+            let id = self.patch_points[16 * p + k] as usize;
+            if id < ncv {
+                row.push((id as u32, 1.0));
+            } else {
+                let s = id - ncv;
+                let (a, b) = (
+                    d.stencil_offsets[s] as usize,
+                    d.stencil_offsets[s + 1] as usize,
+                );
+                row.extend((a..b).map(|e| (d.stencil_indices[e] as u32, d.stencil_weights[e])));
+            }
+        }
+        let mut out = rows;
+        fill_phantoms(patch.boundary_mask, &mut out, |a, b| {
+            let mut v: Vec<(u32, f64)> = a.iter().map(|&(i, w)| (i, 2.0 * w)).collect();
+            v.extend(b.iter().map(|&(i, w)| (i, -w)));
+            merge(v)
+        });
+        Ok(out)
+    }
+
+    fn patch(&self, p: usize) -> Result<&Patch> {
+        self.patches
+            .get(p)
+            .ok_or_else(|| Error::InvalidInput(format!("patch {p} does not exist")))
+    }
+
+    /// The 16 control points of patch `p` (phantoms reproduced): an exact 16-point bicubic
+    /// B-spline patch over its square.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] if `p` is not a patch.
+    pub fn patch_control_points(&self, p: usize) -> Result<[[f64; 3]; 16]> {
+        let patch = self.patch(p)?;
+        let phantom = phantom_slots(patch.boundary_mask);
+        let mut pts: [[f64; 3]; 16] = std::array::from_fn(|k| {
+            if phantom[k] {
+                [0.0; 3]
+            } else {
+                self.point_positions[self.patch_points[16 * p + k] as usize]
+            }
+        });
+        fill_phantoms(patch.boundary_mask, &mut pts, |a, b| {
+            [2.0 * a[0] - b[0], 2.0 * a[1] - b[1], 2.0 * a[2] - b[2]]
+        });
+        Ok(pts)
+    }
+
+    /// The patch holding `point` and the point's coordinates `(s, t)` in that patch's unit
+    /// square.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] when the ptex face does not exist, `(u, v)` is outside
+    /// `[0, 1]²` or not finite, or the face has no limit surface (a boundary face under
+    /// `BoundaryInterpolation::None`).
+    pub fn locate(&self, point: &SurfacePoint) -> Result<(usize, f64, f64)> {
+        let SurfacePoint { ptex_face, u, v } = *point;
+        if ptex_face as usize >= self.data.num_ptex_faces {
+            return Err(Error::InvalidInput(format!(
+                "ptex face {ptex_face} does not exist"
+            )));
+        }
+        if !(0.0..=1.0).contains(&u) || !(0.0..=1.0).contains(&v) {
+            return Err(Error::InvalidInput(format!(
+                "(u, v) = ({u}, {v}) is outside the unit square of ptex face {ptex_face}"
+            )));
+        }
+        for &p in self.patches_of_ptex_face(ptex_face) {
+            let q = &self.patches[p as usize];
+            if u >= q.u0 && u <= q.u0 + q.size && v >= q.v0 && v <= q.v0 + q.size {
+                return Ok((p as usize, (u - q.u0) / q.size, (v - q.v0) / q.size));
+            }
+        }
+        Err(Error::InvalidInput(format!(
+            "ptex face {ptex_face} has no limit surface at ({u}, {v}) (a boundary face with \
+             BoundaryInterpolation::None?)"
+        )))
+    }
+
+    /// Limit position and derivatives up to third order at each point, with respect to the
+    /// ptex face's (u, v). Orders 0–2 come from OpenSubdiv's `PatchTable::EvaluateBasis`
+    /// (one call for all points); third order from the bicubic basis of the exported patch.
+    /// Under an n-gon's sub-faces OpenSubdiv differentiates with respect to half-scale
+    /// parameters (it scales by 2^depth whatever the face); the result is rescaled to the
+    /// ptex face's (u, v), as finite differences confirm.
+    ///
+    /// # Errors
+    /// Those of [`PatchSurface::locate`]; [`Error::Ffi`] if OpenSubdiv fails.
+    pub fn evaluate(&self, points: &[SurfacePoint]) -> Result<Vec<Derivatives>> {
+        let located: Vec<(usize, f64, f64)> = points
+            .iter()
+            .map(|p| self.locate(p))
+            .collect::<Result<_>>()?;
+        let patch: Vec<i32> = located.iter().map(|l| l.0 as i32).collect();
+        let u: Vec<f64> = points.iter().map(|p| p.u).collect();
+        let v: Vec<f64> = points.iter().map(|p| p.v).collect();
+        let w = self.table.evaluate_basis(&patch, &u, &v)?;
+        let mut out = Vec::with_capacity(points.len());
+        for (i, &(p, s, t)) in located.iter().enumerate() {
+            let mut d = self.evaluate_in_patch(p, s, t)?;
+            let mut order = [[0.0; 3]; 6];
+            for (k, acc) in order.iter_mut().enumerate() {
+                for c in 0..16 {
+                    let weight = w[96 * i + 16 * k + c];
+                    let id = self.patch_points[16 * p + c];
+                    if weight != 0.0 && id >= 0 {
+                        let q = self.point_positions[id as usize];
+                        for x in 0..3 {
+                            acc[x] += weight * q[x];
+                        }
+                    }
+                }
+            }
+            // EvaluateBasis scales derivatives by 2^depth, which is 1 / size except under an
+            // n-gon's sub-face (size = 2^(1 − depth)): there it differentiates with respect
+            // to half-scale parameters. Rescale to the ptex face's (u, v).
+            let patch = &self.patches[p];
+            let c = 1.0 / (patch.size * f64::from(1u32 << patch.depth));
+            for (k, x) in order.iter_mut().enumerate().skip(1) {
+                let f = if k < 3 { c } else { c * c };
+                x.iter_mut().for_each(|e| *e *= f);
+            }
+            [d.position, d.du, d.dv, d.duu, d.duv, d.dvv] = order;
+            out.push(d);
+        }
+        Ok(out)
+    }
+
+    /// Position and derivatives up to third order from the exported 16-point patch alone
+    /// (pure Rust), with respect to the ptex face's (u, v), at `(s, t)` of patch `p`'s
+    /// unit square.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] if `p` is not a patch or `(s, t)` is not in `[0, 1]²`.
+    pub fn evaluate_in_patch(&self, p: usize, s: f64, t: f64) -> Result<Derivatives> {
+        if !(0.0..=1.0).contains(&s) || !(0.0..=1.0).contains(&t) {
+            return Err(Error::InvalidInput(format!(
+                "(s, t) = ({s}, {t}) is outside the unit square"
+            )));
+        }
+        let size = self.patch(p)?.size;
+        let mut d = eval_patch(&self.patch_control_points(p)?, s, t);
+        // Chain rule: u = u0 + size s, so ∂/∂u = (1 / size) ∂/∂s.
+        let scale = |x: &mut [f64; 3], order: i32| {
+            let f = size.powi(-order);
+            x.iter_mut().for_each(|c| *c *= f);
+        };
+        scale(&mut d.du, 1);
+        scale(&mut d.dv, 1);
+        scale(&mut d.duu, 2);
+        scale(&mut d.duv, 2);
+        scale(&mut d.dvv, 2);
+        scale(&mut d.duuu, 3);
+        scale(&mut d.duuv, 3);
+        scale(&mut d.duvv, 3);
+        scale(&mut d.dvvv, 3);
+        Ok(d)
+    }
+}
+
+/// Slots of a 4 × 4 patch that a boundary mask marks as phantom.
+fn phantom_slots(mask: u8) -> [bool; 16] {
+    std::array::from_fn(|k| {
+        let (r, c) = (k / 4, k % 4);
+        (mask & 1 != 0 && r == 0)
+            || (mask & 2 != 0 && c == 3)
+            || (mask & 4 != 0 && r == 3)
+            || (mask & 8 != 0 && c == 0)
+    })
+}
+
+/// Sums the weights of repeated vertices.
+fn merge(mut v: Vec<(u32, f64)>) -> Vec<(u32, f64)> {
+    v.sort_by_key(|e| e.0);
+    let mut out: Vec<(u32, f64)> = Vec::with_capacity(v.len());
+    for (i, w) in v {
+        match out.last_mut() {
+            Some(last) if last.0 == i => last.1 += w,
+            _ => out.push((i, w)),
+        }
+    }
+    out
+}

@@ -1,0 +1,121 @@
+//! Sampling the limit surface on a regular grid per ptex face, with mean curvature as
+//! per-vertex quality: a curvature map MeshLab colours.
+
+use crate::error::{Error, Result};
+use crate::mesh::PolygonMesh;
+use crate::subdiv::{curvature, PatchSurface, SurfacePoint};
+
+/// Options of [`sample_limit`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SampleOptions {
+    /// Grid cells along each side of a ptex face (K): (K + 1)² samples and K² quads per face.
+    pub samples: u32,
+}
+
+impl Default for SampleOptions {
+    fn default() -> Self {
+        SampleOptions { samples: 4 }
+    }
+}
+
+/// The sampled limit surface and where its curvature is undefined.
+#[derive(Debug, Clone)]
+pub struct LimitSamples {
+    /// One (K + 1) × (K + 1) grid of quads per ptex face; `quality` = mean curvature, UVs =
+    /// the ptex face's (u, v).
+    pub mesh: PolygonMesh,
+    /// Samples at degenerate points of the limit surface (vanishing or parallel tangents,
+    /// e.g. the limit point of a valence-2 vertex), where curvature does not exist: their
+    /// `quality` is the mean of their non-degenerate grid neighbours' (0 if none).
+    pub degenerate: Vec<u32>,
+}
+
+/// Largest accepted [`SampleOptions::samples`].
+pub const MAX_SAMPLES: u32 = 256;
+
+/// Samples the limit surface: for every ptex face with a limit surface, a (K + 1) × (K + 1)
+/// grid of limit points joined into K × K quads, each vertex carrying the mean curvature
+/// as `quality` and the ptex face's (u, v) as UVs. Faces are sampled independently (their
+/// border vertices are repeated), so the output is one grid per ptex face; faces without a
+/// limit surface (boundary faces under `BoundaryInterpolation::None`) are left out.
+/// Degenerate points are listed in [`LimitSamples::degenerate`], never a silent NaN.
+///
+/// # Errors
+/// [`Error::InvalidInput`] unless `1 ≤ samples ≤ MAX_SAMPLES`; [`Error::Ffi`] from
+/// evaluation.
+pub fn sample_limit(surface: &PatchSurface, options: &SampleOptions) -> Result<LimitSamples> {
+    let k = options.samples;
+    if !(1..=MAX_SAMPLES).contains(&k) {
+        return Err(Error::InvalidInput(format!(
+            "samples = {k}; it must be between 1 and {MAX_SAMPLES}"
+        )));
+    }
+    let n = (k + 1) as usize;
+    let mut mesh = PolygonMesh::default();
+    let mut quality = Vec::new();
+    let mut uvs = crate::mesh::CornerUvs::default();
+    let mut degenerate = Vec::new();
+    for ptex in 0..surface.ptex_face_count() as u32 {
+        let points: Vec<SurfacePoint> = (0..n * n)
+            .map(|i| SurfacePoint {
+                ptex_face: ptex,
+                u: (i % n) as f64 / k as f64,
+                v: (i / n) as f64 / k as f64,
+            })
+            .collect();
+        if points.iter().any(|p| surface.locate(p).is_err()) {
+            continue;
+        }
+        let base = mesh.positions.len() as u32;
+        let first_degenerate = degenerate.len();
+        for (i, (p, d)) in points.iter().zip(surface.evaluate(&points)?).enumerate() {
+            match curvature(&d) {
+                Ok(c) => quality.push(c.mean),
+                Err(_) => {
+                    degenerate.push(base + i as u32);
+                    quality.push(0.0);
+                }
+            }
+            mesh.positions.push(d.position);
+            uvs.coords.push([p.u, p.v]);
+        }
+        for &g in &degenerate[first_degenerate..] {
+            let local = (g - base) as usize;
+            let (i, j) = ((local % n) as i64, (local / n) as i64);
+            let mut sum = 0.0;
+            let mut count = 0;
+            for (di, dj) in [
+                (-1, 0),
+                (1, 0),
+                (0, -1),
+                (0, 1),
+                (-1, -1),
+                (1, 1),
+                (-1, 1),
+                (1, -1),
+            ] {
+                let (a, b) = (i + di, j + dj);
+                if a < 0 || b < 0 || a >= n as i64 || b >= n as i64 {
+                    continue;
+                }
+                let other = base + (b as usize * n + a as usize) as u32;
+                if !degenerate[first_degenerate..].contains(&other) {
+                    sum += quality[other as usize];
+                    count += 1;
+                }
+            }
+            quality[g as usize] = if count > 0 { sum / count as f64 } else { 0.0 };
+        }
+        let id = |i: usize, j: usize| base + (j * n + i) as u32;
+        for j in 0..k as usize {
+            for i in 0..k as usize {
+                let quad = [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)];
+                mesh.push_face(&quad);
+                uvs.corner_indices.extend(quad);
+            }
+        }
+    }
+    mesh.quality = Some(quality);
+    mesh.uvs = Some(uvs);
+    Ok(LimitSamples { mesh, degenerate })
+}

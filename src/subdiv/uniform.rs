@@ -1,0 +1,76 @@
+//! Uniform Catmull–Clark refinement: every face split `levels` times, quads out.
+
+use crate::error::{Error, Result};
+use crate::ffi::opensubdiv as ffi;
+use crate::mesh::{CornerUvs, PolygonMesh};
+use crate::subdiv::topology::ControlMesh;
+use crate::subdiv::SubdivOptions;
+
+/// The most levels accepted: OpenSubdiv's own cap.
+pub const MAX_LEVELS: u32 = 10;
+
+/// Refines `mesh` uniformly `levels` times with Catmull–Clark's rules (OpenSubdiv's
+/// `Far::TopologyRefiner::RefineUniform` + `PrimvarRefiner`, in doubles) and returns the last
+/// level: a mesh of quads, with refined UVs when `mesh` has UVs (interpolated by
+/// `options.face_varying`). `levels == 0` returns a copy of the positions, faces and UVs.
+///
+/// The refined mesh approximates the limit surface; it is not the limit surface (its faces
+/// are bilinear). Use [`crate::subdiv::PatchSurface`] for limit positions and derivatives.
+///
+/// # Errors
+/// [`Error::InvalidInput`] for `levels > 10`, for a refined mesh above `u32` or `i32`
+/// indices, and for the conditions of the control mesh (see `SubdivOptions`: creases must
+/// be edges, sharpness finite and ≥ 0, faces of ≥ 3 corners); [`Error::Ffi`] when
+/// OpenSubdiv refuses the topology.
+pub fn refine_uniform(
+    mesh: &PolygonMesh,
+    levels: u32,
+    options: &SubdivOptions,
+) -> Result<PolygonMesh> {
+    if levels > MAX_LEVELS {
+        return Err(Error::InvalidInput(format!(
+            "{levels} levels of refinement requested; at most {MAX_LEVELS} are supported"
+        )));
+    }
+    let control = ControlMesh::new(mesh, options, true)?;
+    if levels == 0 {
+        return Ok(PolygonMesh {
+            positions: mesh.positions.clone(),
+            face_offsets: mesh.face_offsets.clone(),
+            face_indices: mesh.face_indices.clone(),
+            uvs: mesh.uvs.clone(),
+            ..Default::default()
+        });
+    }
+    // Each level turns every corner into a quad: the last level has corners · 4^(levels−1)
+    // faces and 4 times as many corners. Refuse what overflows 32-bit indices up front.
+    let corners = mesh.face_indices.len() as u128;
+    if corners * 4u128.pow(levels) > i32::MAX as u128 {
+        return Err(Error::InvalidInput(format!(
+            "{levels} levels would give {} face corners, beyond OpenSubdiv's 32-bit indices",
+            corners * 4u128.pow(levels)
+        )));
+    }
+    let uv_coords: &[[f64; 2]] = match &mesh.uvs {
+        Some(uv) if control.num_uvs > 0 => &uv.coords,
+        _ => &[],
+    };
+    let level = ffi::refine_uniform(
+        &control.topology(),
+        levels as i32,
+        &mesh.positions,
+        uv_coords,
+    )?;
+    let nf = level.face_vertices.len() / 4;
+    let uvs = (control.num_uvs > 0).then_some(CornerUvs {
+        coords: level.fvar_values,
+        corner_indices: level.fvar_indices,
+    });
+    Ok(PolygonMesh {
+        positions: level.positions,
+        face_offsets: (0..=nf as u32).map(|f| 4 * f).collect(),
+        face_indices: level.face_vertices,
+        uvs,
+        ..Default::default()
+    })
+}

@@ -1,0 +1,110 @@
+//! A located flaw: its kind, the elements (ids as in the input: 0-based positions in the
+//! file's vertex and face order — OBJ `v` numbers minus one), where it is, and a fix.
+
+/// The kinds of flaw the locator reports.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum FlawKind {
+    /// A boundary loop of 3 edges: a triangle left unfilled.
+    MissingTriangle,
+    /// A boundary loop of 4 edges: a quad left unfilled.
+    MissingQuad,
+    /// Any other boundary loop.
+    Hole,
+    /// A boundary edge running along a chain of boundary edges (a T-junction, Fig. 22).
+    Crack,
+    /// An edge with more than two facet sides.
+    NonManifoldEdge,
+    /// A vertex whose facets form more than one fan.
+    NonManifoldVertex,
+    /// A facet with the vertex set of an earlier facet.
+    DuplicatedFacet,
+    /// A facet with fewer than 3 corners or a repeated vertex.
+    DegenerateFacet,
+    /// Two distinct vertices at the same place (within the weld tolerance).
+    CoincidentVertices,
+    /// A vertex no facet uses.
+    UnreferencedVertex,
+    /// Two facets running their shared edge the same way.
+    InconsistentOrientation,
+}
+
+impl FlawKind {
+    pub const ALL: [FlawKind; 11] = [
+        FlawKind::MissingTriangle,
+        FlawKind::MissingQuad,
+        FlawKind::Hole,
+        FlawKind::Crack,
+        FlawKind::NonManifoldEdge,
+        FlawKind::NonManifoldVertex,
+        FlawKind::DuplicatedFacet,
+        FlawKind::DegenerateFacet,
+        FlawKind::CoincidentVertices,
+        FlawKind::UnreferencedVertex,
+        FlawKind::InconsistentOrientation,
+    ];
+
+    /// The snake_case name used in JSON and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            FlawKind::MissingTriangle => "missing_triangle",
+            FlawKind::MissingQuad => "missing_quad",
+            FlawKind::Hole => "hole",
+            FlawKind::Crack => "crack",
+            FlawKind::NonManifoldEdge => "non_manifold_edge",
+            FlawKind::NonManifoldVertex => "non_manifold_vertex",
+            FlawKind::DuplicatedFacet => "duplicated_facet",
+            FlawKind::DegenerateFacet => "degenerate_facet",
+            FlawKind::CoincidentVertices => "coincident_vertices",
+            FlawKind::UnreferencedVertex => "unreferenced_vertex",
+            FlawKind::InconsistentOrientation => "inconsistent_orientation",
+        }
+    }
+
+    /// Whether the flaw is a boundary loop (hole, missing facet or crack).
+    pub fn is_boundary_loop(self) -> bool {
+        matches!(
+            self,
+            FlawKind::Hole | FlawKind::MissingTriangle | FlawKind::MissingQuad | FlawKind::Crack
+        )
+    }
+
+    /// Parses a name of [`FlawKind::name`].
+    pub fn from_name(name: &str) -> Option<FlawKind> {
+        FlawKind::ALL.into_iter().find(|k| k.name() == name)
+    }
+}
+
+/// Measurements of a boundary loop.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct LoopShape {
+    pub edges: usize,
+    pub perimeter: f64,
+    /// Norm of the loop's vector area (½‖Σ pᵢ × pᵢ₊₁‖): the area of a planar loop.
+    pub area: f64,
+    /// Area below 1 % of the squared median edge length, or perimeter below half of it:
+    /// too small to see at ordinary zoom (the paper's §4.1–4.2 flaws).
+    pub tiny: bool,
+}
+
+/// One located flaw.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Flaw {
+    pub kind: FlawKind,
+    /// Vertex ids involved (a loop's vertices in order; an edge's two ends; …).
+    pub vertices: Vec<u32>,
+    /// Face ids involved.
+    pub faces: Vec<u32>,
+    /// A representative point (loop centroid, edge midpoint, the vertex).
+    pub position: [f64; 3],
+    /// Boundary-loop measurements, for holes, missing facets and cracks.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape: Option<LoopShape>,
+    /// Connected component (edge-connected facets) it lies in, where that is defined.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub component: Option<u32>,
+    pub description: String,
+    pub suggested_fix: String,
+}

@@ -1,0 +1,418 @@
+//! The flaw locator: every flaw of the registered facets, classified and placed.
+//! (Beyond the paper, which only tells that χ is wrong since the last verified point.)
+
+use foldhash::{HashMap as FxHashMap, HashMapExt};
+
+use super::flaw::{Flaw, FlawKind, LoopShape};
+use super::registry::EatRegistry;
+use super::structure::Structure;
+
+/// Options of the locator.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocatorOptions {
+    /// Distance under which two distinct vertices count as coincident (0: same coordinates).
+    pub weld_tolerance: f64,
+    /// A boundary loop is a crack when its longest edge equals the sum of the others to
+    /// this fraction of the perimeter (the loop has no width: a T-junction).
+    pub crack_tolerance: f64,
+}
+
+impl Default for LocatorOptions {
+    fn default() -> Self {
+        LocatorOptions {
+            weld_tolerance: 0.0,
+            crack_tolerance: 1e-6,
+        }
+    }
+}
+
+/// Boundary loops as vertex cycles: boundary half-edges run opposite to their one facet,
+/// and at each vertex the walk continues with the boundary half-edge of the same fan of
+/// facets (so a pinch vertex closes one loop per fan, as a half-edge walk does).
+pub fn boundary_walks(registry: &EatRegistry, structure: &Structure) -> Vec<Vec<u32>> {
+    let (offsets, corners) = registry.facet_arrays();
+    let next_corner = |k: u32| {
+        let f = structure.corner_facet[k as usize] as usize;
+        if k + 1 == offsets[f + 1] {
+            offsets[f]
+        } else {
+            k + 1
+        }
+    };
+    // Boundary half-edge w→u for a facet running u→w: keyed by (w, fan of the facet at w).
+    let mut leaving: FxHashMap<(u32, u32), Vec<(u32, u32)>> = FxHashMap::new();
+    let mut order = Vec::new();
+    for (e, item) in registry.edges().iter().enumerate() {
+        if item.ec != 1 {
+            continue;
+        }
+        let side = structure.first_side(e);
+        let (ku, kw) = (side.corner, next_corner(side.corner));
+        let key = (corners[kw as usize], structure.corner_fan[kw as usize]);
+        // Value: the half-edge's end vertex and the fan at that end.
+        leaving
+            .entry(key)
+            .or_default()
+            .push((corners[ku as usize], structure.corner_fan[ku as usize]));
+        order.push(key);
+    }
+    let mut used: FxHashMap<(u32, u32), usize> = FxHashMap::new();
+    let mut loops = Vec::new();
+    for start in order {
+        if used.get(&start).copied().unwrap_or(0) >= leaving[&start].len() {
+            continue;
+        }
+        let mut cycle = Vec::new();
+        let mut at = start;
+        loop {
+            let n = used.entry(at).or_insert(0);
+            let Some(&next) = leaving.get(&at).and_then(|l| l.get(*n)) else {
+                break;
+            };
+            *n += 1;
+            cycle.push(at.0);
+            at = next;
+            if at == start {
+                break;
+            }
+        }
+        loops.push(cycle);
+    }
+    loops
+}
+
+/// Median edge length of the registered edges (0 for none).
+pub fn median_edge_length(registry: &EatRegistry, positions: &[[f64; 3]]) -> f64 {
+    // f32 halves the memory of this 1-per-edge array; a median needs no more precision.
+    let mut lengths: Vec<f32> = registry
+        .edges()
+        .iter()
+        .map(|e| distance(positions[e.a as usize], positions[e.b as usize]) as f32)
+        .collect();
+    if lengths.is_empty() {
+        return 0.0;
+    }
+    let mid = lengths.len() / 2;
+    f64::from(*lengths.select_nth_unstable_by(mid, f32::total_cmp).1)
+}
+
+fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+fn centroid(points: impl Iterator<Item = [f64; 3]>) -> [f64; 3] {
+    let (mut c, mut n) = ([0.0; 3], 0.0);
+    for p in points {
+        for k in 0..3 {
+            c[k] += p[k];
+        }
+        n += 1.0;
+    }
+    if n > 0.0 {
+        c.map(|x| x / n)
+    } else {
+        c
+    }
+}
+
+/// Perimeter, vector area and tininess of a closed polygon.
+pub fn loop_shape(cycle: &[u32], positions: &[[f64; 3]], median_edge: f64) -> LoopShape {
+    let n = cycle.len();
+    let mut perimeter = 0.0;
+    let mut cross = [0.0; 3];
+    for k in 0..n {
+        let (p, q) = (
+            positions[cycle[k] as usize],
+            positions[cycle[(k + 1) % n] as usize],
+        );
+        perimeter += distance(p, q);
+        cross[0] += p[1] * q[2] - p[2] * q[1];
+        cross[1] += p[2] * q[0] - p[0] * q[2];
+        cross[2] += p[0] * q[1] - p[1] * q[0];
+    }
+    let area = 0.5 * (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]).sqrt();
+    LoopShape {
+        edges: n,
+        perimeter,
+        area,
+        tiny: area < 0.01 * median_edge * median_edge || perimeter < 0.5 * median_edge,
+    }
+}
+
+/// Classifies one boundary loop: crack (no width), missing triangle or quad, or hole.
+fn loop_flaw(
+    cycle: Vec<u32>,
+    positions: &[[f64; 3]],
+    median_edge: f64,
+    options: &LocatorOptions,
+    component: Option<u32>,
+) -> Flaw {
+    let shape = loop_shape(&cycle, positions, median_edge);
+    let n = cycle.len();
+    let lengths: Vec<f64> = (0..n)
+        .map(|k| {
+            distance(
+                positions[cycle[k] as usize],
+                positions[cycle[(k + 1) % n] as usize],
+            )
+        })
+        .collect();
+    let (long, &longest) = lengths
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .unwrap_or((0, &0.0));
+    let position = centroid(cycle.iter().map(|&v| positions[v as usize]));
+    let is_crack = n >= 3
+        && (shape.perimeter - 2.0 * longest).abs() <= options.crack_tolerance * shape.perimeter;
+    if is_crack {
+        let (a, b) = (cycle[long], cycle[(long + 1) % n]);
+        let chain: Vec<u32> = (2..=n).map(|k| cycle[(long + k) % n]).take(n - 2).collect();
+        let mut vertices = vec![a, b];
+        vertices.extend(&chain);
+        return Flaw {
+            kind: FlawKind::Crack,
+            vertices,
+            faces: Vec::new(),
+            position,
+            shape: Some(shape),
+            component,
+            description: format!(
+                "edge {{{a}, {b}}} runs along the chain of boundary edges through {chain:?}: a crack of no width (T-junction)"
+            ),
+            suggested_fix: format!("split edge {{{a}, {b}}} at vertices {chain:?} in the facet that uses it"),
+        };
+    }
+    let (kind, fix) = match n {
+        3 => (
+            FlawKind::MissingTriangle,
+            format!("add the facet {:?}", cycle.iter().rev().collect::<Vec<_>>()),
+        ),
+        4 => (
+            FlawKind::MissingQuad,
+            format!("add the facet {:?}", cycle.iter().rev().collect::<Vec<_>>()),
+        ),
+        _ => (
+            FlawKind::Hole,
+            "fill the hole (surfkit fill), or leave it if the target surface has this boundary"
+                .to_string(),
+        ),
+    };
+    Flaw {
+        kind,
+        description: format!(
+            "boundary loop of {n} edges, perimeter {:.6}, area {:.6}{}",
+            shape.perimeter,
+            shape.area,
+            if shape.tiny {
+                " (tiny: easy to miss on screen)"
+            } else {
+                ""
+            }
+        ),
+        vertices: cycle,
+        faces: Vec::new(),
+        position,
+        shape: Some(shape),
+        component,
+        suggested_fix: fix,
+    }
+}
+
+/// Every flaw of the registered facets. `vertex_count` is the number of vertices in the
+/// input (to find the unreferenced ones); `facet_ids` maps Facet-list positions to input ids.
+pub fn locate(
+    registry: &EatRegistry,
+    structure: &Structure,
+    positions: &[[f64; 3]],
+    facet_ids: &[u32],
+    options: &LocatorOptions,
+) -> Vec<Flaw> {
+    let mut flaws = Vec::new();
+    let median = median_edge_length(registry, positions);
+    let (offsets, corners) = registry.facet_arrays();
+    let facet_id = |f: u32| facet_ids.get(f as usize).copied().unwrap_or(f);
+    let pos = |v: u32| positions[v as usize];
+
+    // Boundary loops, located by walking.
+    for cycle in boundary_walks(registry, structure) {
+        let component = cycle.first().and_then(|&v| {
+            let e = registry.edge_slot(v, *cycle.get(1).unwrap_or(&v))?;
+            Some(structure.facet_component[structure.first_side(e as usize).facet as usize])
+        });
+        flaws.push(loop_flaw(cycle, positions, median, options, component));
+    }
+
+    for (e, item) in registry.edges().iter().enumerate() {
+        let first = structure.first_side(e);
+        if item.ec > 2 {
+            let faces: Vec<u32> = structure.sides_of(e).map(|s| facet_id(s.facet)).collect();
+            flaws.push(Flaw {
+                kind: FlawKind::NonManifoldEdge,
+                vertices: vec![item.a, item.b],
+                position: centroid([pos(item.a), pos(item.b)].into_iter()),
+                shape: None,
+                component: Some(structure.facet_component[first.facet as usize]),
+                description: format!("edge {{{}, {}}} has {} facet sides (ec = {})", item.a, item.b, item.ec, item.ec),
+                suggested_fix: format!(
+                    "keep two of the facets {faces:?} on this edge; give the others their own copies of vertices {} and {}, or delete duplicates",
+                    item.a, item.b
+                ),
+                faces,
+            });
+        } else if item.inconsistent() {
+            let faces: Vec<u32> = structure.sides_of(e).map(|s| facet_id(s.facet)).collect();
+            flaws.push(Flaw {
+                kind: FlawKind::InconsistentOrientation,
+                vertices: vec![item.a, item.b],
+                position: centroid([pos(item.a), pos(item.b)].into_iter()),
+                shape: None,
+                component: Some(structure.facet_component[first.facet as usize]),
+                description: format!(
+                    "facets {faces:?} both run edge {{{}, {}}} the same way",
+                    item.a, item.b
+                ),
+                suggested_fix: format!(
+                    "reverse the corner order of facet {} (and its side of the surface)",
+                    faces[1]
+                ),
+                faces,
+            });
+        }
+    }
+
+    for (&v, &fans) in structure.non_manifold_vertices.iter().zip(&structure.fans) {
+        flaws.push(Flaw {
+            kind: FlawKind::NonManifoldVertex,
+            vertices: vec![v],
+            faces: Vec::new(),
+            position: pos(v),
+            shape: None,
+            component: None,
+            description: format!("vertex {v} joins {fans} separate fans of facets"),
+            suggested_fix: format!("give each fan at vertex {v} its own copy of the vertex, or fill the gap between the fans"),
+        });
+    }
+
+    // Duplicated and degenerate facets.
+    for (f, &set) in registry.facet_sets().iter().enumerate() {
+        let face = &corners[offsets[f] as usize..offsets[f + 1] as usize];
+        let first = registry.first_facet_of_set(set);
+        if first != f as u32 {
+            flaws.push(Flaw {
+                kind: FlawKind::DuplicatedFacet,
+                vertices: face.to_vec(),
+                faces: vec![facet_id(f as u32), facet_id(first)],
+                position: centroid(face.iter().map(|&v| pos(v))),
+                shape: None,
+                component: Some(structure.facet_component[f]),
+                description: format!(
+                    "facet {} has the vertices of facet {} (fc = {})",
+                    facet_id(f as u32),
+                    facet_id(first),
+                    registry.facet_counter(f)
+                ),
+                suggested_fix: format!("delete facet {}", facet_id(f as u32)),
+            });
+        }
+        if crate::mesh::io::degeneracy(face).is_some() {
+            flaws.push(Flaw {
+                kind: FlawKind::DegenerateFacet,
+                vertices: face.to_vec(),
+                faces: vec![facet_id(f as u32)],
+                position: centroid(face.iter().map(|&v| pos(v))),
+                shape: None,
+                component: Some(structure.facet_component[f]),
+                description: format!(
+                    "facet {} has corners {face:?}: fewer than 3 or a repeated vertex",
+                    facet_id(f as u32)
+                ),
+                suggested_fix: format!(
+                    "delete facet {} or remove its repeated corner",
+                    facet_id(f as u32)
+                ),
+            });
+        }
+    }
+
+    // Unreferenced and coincident vertices.
+    for (v, p) in positions.iter().enumerate() {
+        if registry.vertex(v as u32).is_none() {
+            flaws.push(Flaw {
+                kind: FlawKind::UnreferencedVertex,
+                vertices: vec![v as u32],
+                faces: Vec::new(),
+                position: *p,
+                shape: None,
+                component: None,
+                description: format!("vertex {v} is used by no facet"),
+                suggested_fix: format!("delete vertex {v}"),
+            });
+        }
+    }
+    for (v, u) in coincident_pairs(registry, positions, options.weld_tolerance) {
+        flaws.push(Flaw {
+            kind: FlawKind::CoincidentVertices,
+            vertices: vec![v, u],
+            faces: Vec::new(),
+            position: pos(v),
+            shape: None,
+            component: None,
+            description: format!("vertex {v} is at the place of vertex {u} but not welded to it"),
+            suggested_fix: format!("weld vertex {v} into vertex {u}"),
+        });
+    }
+    flaws
+}
+
+/// Referenced vertices (in id order) that lie within `tolerance` of an earlier referenced
+/// vertex, as (vertex, earlier vertex). Exact coordinates when `tolerance` is 0.
+pub fn coincident_pairs(
+    registry: &EatRegistry,
+    positions: &[[f64; 3]],
+    tolerance: f64,
+) -> Vec<(u32, u32)> {
+    let mut ids: Vec<u32> = registry.vertices().iter().map(|v| v.id).collect();
+    ids.sort_unstable();
+    let mut pairs = Vec::new();
+    if tolerance <= 0.0 {
+        let mut seen: FxHashMap<[u64; 3], u32> = FxHashMap::new();
+        for v in ids {
+            // +0.0 folds -0.0 into 0.0: the same place.
+            let key = positions[v as usize].map(|c| (c + 0.0).to_bits());
+            if let Some(&u) = seen.get(&key) {
+                pairs.push((v, u));
+            } else {
+                seen.insert(key, v);
+            }
+        }
+        return pairs;
+    }
+    let cell = |p: [f64; 3]| p.map(|c| (c / tolerance).floor() as i64);
+    let mut grid: FxHashMap<[i64; 3], Vec<u32>> = FxHashMap::new();
+    for v in ids {
+        let p = positions[v as usize];
+        let c = cell(p);
+        let mut found = None;
+        'search: for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    if let Some(list) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) {
+                        if let Some(&u) = list
+                            .iter()
+                            .find(|&&u| distance(positions[u as usize], p) <= tolerance)
+                        {
+                            found = Some(u);
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+        match found {
+            Some(u) => pairs.push((v, u)),
+            None => grid.entry(c).or_default().push(v),
+        }
+    }
+    pairs
+}

@@ -1,0 +1,333 @@
+//! EAT-TA: the registry of Liu et al. (2020) §3.2–3.3 — Facet, Edge and Vertex lists with
+//! their counters, fed facet by facet.
+//!
+//! Readings of the paper chosen here (see `DESIGN.md`: the reading that makes the method
+//! correct):
+//! - `vc` counts the *edges* at a vertex, as §3.2 defines it, not the facets (Fig. 7's
+//!   pseudocode increments it per facet, which differs on a boundary). It grows when a new
+//!   edge at the vertex is registered.
+//! - `ec` counts the facet *sides* on an edge (a facet running an edge twice counts twice).
+//! - `fc` counts the facets with the same vertex set; every facet record still counts in
+//!   F (a duplicated facet is a flaw to report, and F, E, V describe the file as written).
+//! - Edges with both ends at the same vertex (a repeated corner) are not edges.
+
+/// A registered vertex: its input id and `vc`, the number of edges at it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct VertexItem {
+    pub id: u32,
+    pub vc: u32,
+}
+
+/// A registered edge (vertex ids with `a < b`): `ec` facet sides in all, `forward` of them
+/// running a→b. `first_facet` is the facet that registered it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EdgeItem {
+    pub a: u32,
+    pub b: u32,
+    pub ec: u32,
+    pub forward: u32,
+    pub first_facet: u32,
+}
+
+impl EdgeItem {
+    /// Two facets that run the edge the same way (their orientations disagree).
+    pub fn inconsistent(&self) -> bool {
+        self.ec == 2 && (self.forward == 2 || self.forward == 0)
+    }
+}
+
+/// What registering one facet did (the paper's per-facet output, Fig. 14/20/23/24).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FacetRegistration {
+    /// The facet's index in the Facet list (its fID).
+    pub facet: u32,
+    /// `fc` of the facet's vertex set after this registration.
+    pub fc: u32,
+    /// The vIDs (Vertex-list positions) of the facet's corners.
+    pub vertex_slots: Vec<u32>,
+    /// The eIDs (Edge-list positions) of the facet's edges, in corner order.
+    pub edge_slots: Vec<u32>,
+}
+
+const NONE: u32 = u32::MAX;
+
+/// The three lists with counters. Facets are identified by registration order; vertices
+/// by input id (every id seen gets a Vertex item on first use).
+///
+/// Look-ups go through per-vertex chains rather than hash tables: the edges whose smaller
+/// end is `v` and the vertex sets whose smallest vertex is `v` are linked lists threaded
+/// through arrays, a few entries long, that stay in cache for meshes written in any
+/// sensible order (a hash table of millions of edges misses the cache on every facet).
+#[derive(Debug, Default, Clone)]
+pub struct EatRegistry {
+    /// Vertex-list position of each input vertex id, or `u32::MAX` before its first use.
+    slot_of_vertex: Vec<u32>,
+    vertices: Vec<VertexItem>,
+    edges: Vec<EdgeItem>,
+    /// First edge whose smaller end is the vertex (by input id), and the next such edge.
+    edge_head: Vec<u32>,
+    edge_next: Vec<u32>,
+    /// Facet list: corners as offsets + indices, and the facet's distinct-set id.
+    facet_offsets: Vec<u32>,
+    facet_corners: Vec<u32>,
+    facet_set: Vec<u32>,
+    /// Edge-list position of the edge leaving each corner (`u32::MAX` where the next corner
+    /// repeats the vertex), parallel to `facet_corners`.
+    corner_edge: Vec<u32>,
+    /// Distinct vertex sets: the first set whose smallest vertex is the vertex (by input
+    /// id), the next such set, a facet that has the set, and `fc` per set.
+    set_head: Vec<u32>,
+    set_next: Vec<u32>,
+    set_facet: Vec<u32>,
+    fc: Vec<u32>,
+}
+
+/// Whether two corner lists have the same vertex set.
+fn same_vertex_set(a: &[u32], b: &[u32]) -> bool {
+    a.iter().all(|v| b.contains(v)) && b.iter().all(|v| a.contains(v))
+}
+
+impl EatRegistry {
+    pub fn new() -> Self {
+        EatRegistry {
+            facet_offsets: vec![0],
+            ..Default::default()
+        }
+    }
+
+    /// A registry with room for about `vertices`, `facets` and `corners`.
+    pub fn with_capacity(vertices: usize, facets: usize, corners: usize) -> Self {
+        let mut r = EatRegistry::new();
+        r.slot_of_vertex.reserve(vertices);
+        r.vertices.reserve(vertices);
+        r.edges.reserve(corners / 2 + 16);
+        r.edge_next.reserve(corners / 2 + 16);
+        r.edge_head.reserve(vertices);
+        r.set_head.reserve(vertices);
+        r.facet_offsets.reserve(facets + 1);
+        r.facet_corners.reserve(corners);
+        r.corner_edge.reserve(corners);
+        r.facet_set.reserve(facets);
+        r.set_next.reserve(facets);
+        r.set_facet.reserve(facets);
+        r.fc.reserve(facets);
+        r
+    }
+
+    /// EAT-TA (Fig. 7): registers a facet, its new vertices and new edges, and increments
+    /// the counters; returns what it did (the paper's per-facet output). O(arity) expected
+    /// time. Every facet is counted, degenerate or not.
+    pub fn register_facet(&mut self, corners: &[u32]) -> FacetRegistration {
+        let facet = self.register(corners);
+        let start = self.facet_offsets[facet as usize] as usize;
+        FacetRegistration {
+            facet,
+            fc: self.facet_counter(facet as usize),
+            vertex_slots: corners
+                .iter()
+                .map(|&v| self.slot_of_vertex[v as usize])
+                .collect(),
+            edge_slots: self.corner_edge[start..start + corners.len()]
+                .iter()
+                .copied()
+                .filter(|&e| e != NONE)
+                .collect(),
+        }
+    }
+
+    /// EAT-TA without the per-facet report: returns the facet's position (fID).
+    pub fn register(&mut self, corners: &[u32]) -> u32 {
+        let facet = self.facet_count() as u32;
+        for &v in corners {
+            self.register_vertex(v);
+        }
+        let n = corners.len();
+        for k in 0..n {
+            let (a, b) = (corners[k], corners[(k + 1) % n]);
+            if a == b || n < 2 {
+                self.corner_edge.push(NONE);
+                continue;
+            }
+            let slot = match self.edge_slot(a, b) {
+                Some(slot) => slot,
+                None => self.new_edge(a.min(b), a.max(b), facet),
+            };
+            let e = &mut self.edges[slot as usize];
+            e.ec += 1;
+            if a < b {
+                e.forward += 1;
+            }
+            self.corner_edge.push(slot);
+        }
+        let set = self.vertex_set_of(corners, facet);
+        self.fc[set as usize] += 1;
+        self.facet_set.push(set);
+        self.facet_corners.extend_from_slice(corners);
+        self.facet_offsets.push(self.facet_corners.len() as u32);
+        facet
+    }
+
+    fn new_edge(&mut self, a: u32, b: u32, facet: u32) -> u32 {
+        let slot = self.edges.len() as u32;
+        self.edges.push(EdgeItem {
+            a,
+            b,
+            ec: 0,
+            forward: 0,
+            first_facet: facet,
+        });
+        self.edge_next.push(self.edge_head[a as usize]);
+        self.edge_head[a as usize] = slot;
+        self.vertices[self.slot_of_vertex[a as usize] as usize].vc += 1;
+        self.vertices[self.slot_of_vertex[b as usize] as usize].vc += 1;
+        slot
+    }
+
+    /// The distinct-vertex-set id of `corners` (a new set if it is the first facet with
+    /// these vertices).
+    fn vertex_set_of(&mut self, corners: &[u32], facet: u32) -> u32 {
+        let Some(&min) = corners.iter().min() else {
+            // A facet with no corners: a set of its own.
+            self.set_next.push(NONE);
+            self.set_facet.push(facet);
+            self.fc.push(0);
+            return (self.fc.len() - 1) as u32;
+        };
+        let mut s = self.set_head[min as usize];
+        while s != NONE {
+            let f = self.set_facet[s as usize] as usize;
+            let other = &self.facet_corners
+                [self.facet_offsets[f] as usize..self.facet_offsets[f + 1] as usize];
+            if same_vertex_set(corners, other) {
+                return s;
+            }
+            s = self.set_next[s as usize];
+        }
+        let set = self.fc.len() as u32;
+        self.set_next.push(self.set_head[min as usize]);
+        self.set_head[min as usize] = set;
+        self.set_facet.push(facet);
+        self.fc.push(0);
+        set
+    }
+
+    fn register_vertex(&mut self, v: u32) -> u32 {
+        let i = v as usize;
+        if i >= self.slot_of_vertex.len() {
+            self.slot_of_vertex.resize(i + 1, NONE);
+            self.edge_head.resize(i + 1, NONE);
+            self.set_head.resize(i + 1, NONE);
+        }
+        if self.slot_of_vertex[i] == u32::MAX {
+            self.slot_of_vertex[i] = self.vertices.len() as u32;
+            self.vertices.push(VertexItem { id: v, vc: 0 });
+        }
+        self.slot_of_vertex[i]
+    }
+
+    pub fn vertex_count(&self) -> usize {
+        self.vertices.len()
+    }
+
+    pub fn edge_count(&self) -> usize {
+        self.edges.len()
+    }
+
+    pub fn facet_count(&self) -> usize {
+        self.facet_offsets.len() - 1
+    }
+
+    pub fn vertices(&self) -> &[VertexItem] {
+        &self.vertices
+    }
+
+    pub fn edges(&self) -> &[EdgeItem] {
+        &self.edges
+    }
+
+    /// The Vertex item of input vertex `v`, if registered.
+    pub fn vertex(&self, v: u32) -> Option<&VertexItem> {
+        let slot = *self.slot_of_vertex.get(v as usize)?;
+        self.vertices.get(slot as usize)
+    }
+
+    /// The Edge-list position of the edge {a, b}, if registered.
+    pub fn edge_slot(&self, a: u32, b: u32) -> Option<u32> {
+        let (lo, hi) = (a.min(b), a.max(b));
+        let mut e = *self.edge_head.get(lo as usize)?;
+        while e != NONE {
+            if self.edges[e as usize].b == hi {
+                return Some(e);
+            }
+            e = self.edge_next[e as usize];
+        }
+        None
+    }
+
+    /// The corners of facet `f` (registration order).
+    pub fn facet(&self, f: usize) -> &[u32] {
+        &self.facet_corners[self.facet_offsets[f] as usize..self.facet_offsets[f + 1] as usize]
+    }
+
+    /// `fc` of facet `f`'s vertex set, and whether `f` is its first facet.
+    pub fn facet_counter(&self, f: usize) -> u32 {
+        self.fc[self.facet_set[f] as usize]
+    }
+
+    /// The first facet registered with vertex set `set`.
+    pub fn first_facet_of_set(&self, set: u32) -> u32 {
+        self.set_facet[set as usize]
+    }
+
+    /// The distinct-vertex-set id of each facet (equal ids: duplicated facets).
+    pub fn facet_sets(&self) -> &[u32] {
+        &self.facet_set
+    }
+
+    /// Facet list as offsets + corners.
+    pub fn facet_arrays(&self) -> (&[u32], &[u32]) {
+        (&self.facet_offsets, &self.facet_corners)
+    }
+
+    /// Per corner, the Edge-list position of the edge to the next corner (`u32::MAX` for
+    /// none), parallel to the corners of [`facet_arrays`](Self::facet_arrays).
+    pub fn corner_edges(&self) -> &[u32] {
+        &self.corner_edge
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counters_on_two_triangles() {
+        let mut r = EatRegistry::new();
+        let a = r.register_facet(&[0, 1, 2]);
+        assert_eq!(a.edge_slots, vec![0, 1, 2]);
+        let b = r.register_facet(&[2, 1, 3]);
+        assert_eq!(
+            (r.vertex_count(), r.edge_count(), r.facet_count()),
+            (4, 5, 2)
+        );
+        // Vertex 1 and 2 have 3 edges each, 0 and 3 two.
+        let vc: Vec<u32> = [0, 1, 2, 3]
+            .iter()
+            .map(|&v| r.vertex(v).unwrap().vc)
+            .collect();
+        assert_eq!(vc, vec![2, 3, 3, 2]);
+        let shared = r.edge_slot(1, 2).unwrap();
+        assert_eq!(r.edges()[shared as usize].ec, 2);
+        assert!(!r.edges()[shared as usize].inconsistent());
+        assert_eq!(b.fc, 1);
+        assert_eq!(r.register_facet(&[1, 2, 0]).fc, 2);
+        assert!(r.edges()[shared as usize].ec == 3);
+    }
+
+    #[test]
+    fn repeated_corner_registers_no_loop_edge() {
+        let mut r = EatRegistry::new();
+        r.register_facet(&[0, 1, 1, 2]);
+        assert_eq!(r.edge_count(), 3);
+    }
+}
