@@ -167,6 +167,12 @@ fn cases() -> Vec<(&'static str, Location, &'static str)> {
             element("end of data", 0, HEADER + 3 * VERTEX + TRIANGLE),
             "5 bytes after the last element the header declares: the header's counts are wrong",
         ),
+        // PLY, binary big endian (the header is 3 bytes shorter: "big" for "little")
+        (
+            "ply_bin_be_index_out_of_range.ply",
+            element("face", 0, HEADER - 3 + 3 * VERTEX),
+            "vertex index 7 is out of range: the file has 3 vertices (valid: 0 to 2)",
+        ),
         // OFF (header on line 1, counts on line 2, vertices from line 3)
         (
             "off_index_out_of_range.off",
