@@ -116,7 +116,11 @@ pub fn parse(
         return Err(Error::parse(
             path,
             crate::error::Location::File,
-            "the file is empty",
+            if bytes.is_empty() {
+                "the file is empty"
+            } else {
+                "the file is empty (it holds only whitespace)"
+            },
         ));
     }
     let mesh = match format {

@@ -10,7 +10,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::face_check::{degeneracy, out_of_range};
+use super::face_check::{degeneracy_as_written, out_of_range};
 use super::text::{parse_f64, parse_i64, show, tokens, write_f64, Lines};
 use super::ReadOptions;
 use crate::error::{Error, Location, Result};
@@ -67,7 +67,7 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
         let mut toks = tokens(line);
         let Some(keyword) = toks.next() else { continue };
         match keyword {
-            b"v" => read_vertex(&mut b, toks, number).map_err(|m| err(number, m))?,
+            b"v" => read_vertex(&mut b, toks, number).map_err(|m| err(number, why(line, m)))?,
             b"vt" => {
                 let u = toks.next().and_then(parse_f64);
                 let v = toks.next().map_or(Some(0.0), parse_f64);
@@ -78,17 +78,21 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                     _ => {
                         return Err(err(
                             number,
-                            format!(
-                                "texture coordinate is not two finite numbers: {:?}",
-                                show(line)
+                            why(
+                                line,
+                                format!(
+                                    "texture coordinate is not two finite numbers: {:?}",
+                                    show(line)
+                                ),
                             ),
                         ))
                     }
                 }
             }
-            b"f" => read_face(&mut b, toks, number).map_err(|m| err(number, m))?,
+            b"f" => read_face(&mut b, toks, number).map_err(|m| err(number, why(line, m)))?,
             b"o" | b"g" => {
-                let name = std::str::from_utf8(line[1..].trim_ascii())
+                // The name is the rest of the record after the keyword.
+                let name = std::str::from_utf8(line.trim_ascii_start()[1..].trim_ascii())
                     .map_err(|e| err(number, non_utf8(line, e)))?;
                 let (labels, ids, current) = if keyword == b"o" {
                     (&mut b.objects, &mut b.label_ids[0], &mut b.current_object)
@@ -106,6 +110,15 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
         }
     }
     finish(b, path, options)
+}
+
+/// The message for a bad record: when the line is not UTF-8, that is the problem to name
+/// (a number or index with a stray byte), otherwise `message`.
+fn why(line: &[u8], message: String) -> String {
+    match std::str::from_utf8(line) {
+        Ok(_) => message,
+        Err(e) => non_utf8(line, e),
+    }
 }
 
 fn non_utf8(line: &[u8], e: std::str::Utf8Error) -> String {
@@ -217,7 +230,7 @@ fn finish(mut b: ObjBuilder, path: &Path, options: &ReadOptions) -> Result<Polyg
         let start = indices.len();
         indices.extend(corners.iter().map(|&i| i as u32));
         if !options.keep_degenerate {
-            if let Some(m) = degeneracy(&indices[start..]) {
+            if let Some(m) = degeneracy_as_written(&indices[start..], 1) {
                 return Err(Error::parse(path, Location::Line(line), m));
             }
         }
@@ -306,4 +319,28 @@ pub fn write(out: &mut dyn Write, mesh: &PolygonMesh) -> std::io::Result<()> {
         out.write_all(b"\n")?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(bytes: &[u8]) -> Result<PolygonMesh> {
+        parse(Path::new("t.obj"), bytes, &ReadOptions::default())
+    }
+
+    #[test]
+    fn group_name_after_leading_blanks() {
+        let mesh = read(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n  g  side  \nf 1 2 3\n").unwrap();
+        assert_eq!(mesh.groups.unwrap().names, vec!["side".to_string()]);
+    }
+
+    #[test]
+    fn non_utf8_in_a_face_record_is_named() {
+        let e = read(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 \xe93\n").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "t.obj: line 4: not valid UTF-8 text: byte 0xe9 at column 7"
+        );
+    }
 }

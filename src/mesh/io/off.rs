@@ -9,7 +9,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::face_check::{degeneracy, out_of_range};
+use super::face_check::{degeneracy_as_written, out_of_range};
 use super::text::{parse_f64, parse_i64, show, strip_comment, tokens, write_f64, Lines};
 use super::ReadOptions;
 use crate::error::{Error, Location, Result};
@@ -99,12 +99,15 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
     let n_vertices = count(pending[0], "vertex")?;
     let n_faces = count(pending[1], "face")?;
     let mut mesh = PolygonMesh::default();
-    mesh.positions.reserve_exact(n_vertices);
+    // The counts are not trusted with memory: each vertex takes at least 6 bytes ("0 0 0\n").
+    mesh.positions
+        .reserve_exact(n_vertices.min(bytes.len() / 6));
     let mut colors: Vec<[u8; 4]> = Vec::new();
     let mut objects = FaceLabels::default();
     let mut groups = FaceLabels::default();
     let (mut current_object, mut current_group) = (NO_LABEL, NO_LABEL);
     let mut seen = 0;
+    let mut data_lines = 0;
     let mut last_line = counts_line;
     while seen < n_vertices + n_faces {
         let Some((n, raw)) = lines.next() else {
@@ -115,7 +118,11 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             };
             return Err(err(
                 last_line,
-                format!("the file ends after {what} the header declares"),
+                format!(
+                    "the file ends after {what} the header declares: line {counts_line} \
+                     declares {n_vertices} vertices and {n_faces} faces, the file has \
+                     {data_lines} data lines after it"
+                ),
             ));
         };
         last_line = n;
@@ -134,6 +141,7 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
         if toks.peek().is_none() {
             continue;
         }
+        data_lines += 1;
         if seen < n_vertices {
             let vals: Vec<f64> = toks
                 .map(|t| {
@@ -200,7 +208,7 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                 ));
             }
             if !options.keep_degenerate {
-                if let Some(m) = degeneracy(&mesh.face_indices[start..]) {
+                if let Some(m) = degeneracy_as_written(&mesh.face_indices[start..], 0) {
                     return Err(err(n, format!("face {f}: {m}")));
                 }
             }
@@ -293,4 +301,25 @@ pub fn write(out: &mut dyn Write, mesh: &PolygonMesh) -> std::io::Result<()> {
         out.write_all(b"\n")?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn huge_counts_do_not_size_allocations() {
+        let e = parse(
+            Path::new("t.off"),
+            b"OFF\n999999999999999999 1 0\n0 0 0\n",
+            &ReadOptions::default(),
+        )
+        .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "t.off: line 3: the file ends after 1 of the 999999999999999999 vertices the header \
+             declares: line 2 declares 999999999999999999 vertices and 1 faces, the file has 1 \
+             data lines after it"
+        );
+    }
 }

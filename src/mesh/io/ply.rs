@@ -14,7 +14,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::face_check::{degeneracy, out_of_range};
+use super::face_check::{degeneracy_as_written, out_of_range};
 use super::ply_fast;
 use super::text::{parse_f64, show, tokens, Lines};
 use super::ReadOptions;
@@ -204,6 +204,12 @@ fn parse_header(path: &Path, bytes: &[u8]) -> Result<Header> {
                     body_line: number + 1,
                 });
             }
+            Some(other) if parse_f64(other.as_bytes()).is_some() => {
+                return Err(err(
+                    number,
+                    format!("data {other:?} in the header: the end_header line is missing"),
+                ))
+            }
             Some(other) => return Err(err(number, format!("unknown header keyword {other:?}"))),
         }
     }
@@ -377,11 +383,16 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
     let mut wedge_uv = CornerUvs::default();
     let mut objects = FaceLabels::default();
     let mut groups = FaceLabels::default();
-    let mut vertex_count = 0;
+    // Faces are checked against the declared count, so that a face element declared before
+    // the vertex element is read right; the vertex element must then hold that many.
+    let vertex_count = header.elements[vertex].count;
+    // Counts are not trusted with memory: every instance takes at least one byte.
+    let room = bytes.len() - header.body;
 
     // Body readers: ASCII one instance per line, binary as a byte cursor.
     let mut lines = Lines::new(&bytes[header.body..]);
     let line_offset = header.body_line - 1;
+    let mut last_line = line_offset;
     let mut binary = BinaryValues {
         data: bytes,
         pos: header.body,
@@ -393,9 +404,12 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
         let mut lists = vec![Vec::new(); element.properties.len()];
         let is_vertex = ei == vertex;
         let is_face = Some(ei) == face;
+        if element.properties.is_empty() {
+            // Nothing to read (and a huge count must not spin).
+            continue;
+        }
         if is_vertex {
-            vertex_count = element.count;
-            vertices.positions.reserve_exact(element.count);
+            vertices.positions.reserve_exact(element.count.min(room));
         }
         // Binary fast paths for the common layouts (see ply_fast).
         let big_endian = header.encoding == PlyEncoding::BinaryBigEndian;
@@ -428,8 +442,9 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             let Kind::List { count, item } = element.properties[roles.corners].kind else {
                 unreachable!("fast_face checked the corner list")
             };
-            mesh.face_offsets.reserve_exact(element.count);
-            mesh.face_indices.reserve(element.count * 3);
+            mesh.face_offsets.reserve_exact(element.count.min(room));
+            mesh.face_indices
+                .reserve(element.count.min(room).saturating_mul(3));
             let keep = options.keep_degenerate;
             binary.pos = ply_fast::read_list_faces(
                 bytes,
@@ -440,7 +455,13 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                 vertex_count,
                 &mut mesh.face_indices,
                 &mut mesh.face_offsets,
-                |corners| if keep { None } else { degeneracy(corners) },
+                |corners| {
+                    if keep {
+                        None
+                    } else {
+                        degeneracy_as_written(corners, 0)
+                    }
+                },
             )
             .map_err(|(index, byte_offset, m)| {
                 Error::parse(
@@ -480,11 +501,11 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             let line_number = if header.encoding == PlyEncoding::Ascii {
                 let (n, line) = loop {
                     match lines.next() {
-                        Some((_, l)) if l.trim_ascii().is_empty() => continue,
+                        Some((n, l)) if l.trim_ascii().is_empty() => last_line = n + line_offset,
                         Some((n, l)) => break (n + line_offset, l),
                         None => {
                             return Err(located(
-                                None,
+                                Some(last_line),
                                 format!(
                                     "the file ends after {index} of the {} {} elements the header declares",
                                     element.count, element.name
@@ -493,6 +514,7 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                         }
                     }
                 };
+                last_line = n;
                 let mut src = AsciiValues {
                     tokens: tokens(line),
                 };
@@ -520,13 +542,14 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             } else if is_face {
                 let start = mesh.face_indices.len();
                 for &i in &lists[roles.corners] {
-                    if let Some(m) = out_of_range(i as i64, vertex_count, 0) {
+                    let i = corner_index(i).map_err(fail)?;
+                    if let Some(m) = out_of_range(i, vertex_count, 0) {
                         return Err(fail(m));
                     }
                     mesh.face_indices.push(i as u32);
                 }
                 if !options.keep_degenerate {
-                    if let Some(m) = degeneracy(&mesh.face_indices[start..]) {
+                    if let Some(m) = degeneracy_as_written(&mesh.face_indices[start..], 0) {
                         return Err(fail(m));
                     }
                 }
@@ -541,6 +564,9 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                             2 * arity
                         )));
                     }
+                    if let Some(c) = tc.iter().find(|c| !c.is_finite()) {
+                        return Err(fail(format!("texcoord value {c} is not finite")));
+                    }
                     for uv in tc.chunks_exact(2) {
                         wedge_uv.corner_indices.push(wedge_uv.coords.len() as u32);
                         wedge_uv.coords.push([uv[0], uv[1]]);
@@ -549,9 +575,18 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                 for (role, labels) in [(roles.object, &mut objects), (roles.group, &mut groups)] {
                     if let Some(k) = role {
                         let id = slots[k];
-                        labels
-                            .of_face
-                            .push(if id < 0.0 { NO_LABEL } else { id as u32 });
+                        if id.fract() != 0.0 {
+                            return Err(fail(format!(
+                                "{} {id} is not an integer",
+                                element.properties[k].name
+                            )));
+                        }
+                        // Ids past the names in the header are refused below.
+                        labels.of_face.push(if id < 0.0 {
+                            NO_LABEL
+                        } else {
+                            id.min(f64::from(NO_LABEL - 1)) as u32
+                        });
                     }
                 }
             }
@@ -648,13 +683,29 @@ impl VertexArrays {
         }
         self.positions.push(p);
         if let Some(q) = roles.quality {
-            self.quality.push(slots[q]);
+            let q = slots[q];
+            if !q.is_finite() {
+                return Err(format!("quality {q} is not finite"));
+            }
+            self.quality.push(q);
         }
         if let Some(rgba) = roles.rgba {
+            if let Some(c) = rgba
+                .iter()
+                .flatten()
+                .map(|&k| slots[k])
+                .find(|c| !c.is_finite())
+            {
+                return Err(format!("colour value {c} is not finite"));
+            }
             self.colors.push(rgba_of(element, slots, rgba));
         }
         if let Some([u, v]) = roles.vertex_uv {
-            self.uv.push([slots[u], slots[v]]);
+            let uv = [slots[u], slots[v]];
+            if !uv.iter().all(|c| c.is_finite()) {
+                return Err(format!("texture coordinates {uv:?} are not finite"));
+            }
+            self.uv.push(uv);
         }
         Ok(())
     }
@@ -680,6 +731,15 @@ fn fixed_layout(element: &Element, big_endian: bool) -> (Vec<usize>, Vec<ply_fas
         }
     }
     (offsets, decode, stride)
+}
+
+/// A corner's vertex index as read (any numeric type): an error unless it is an integer.
+fn corner_index(i: f64) -> std::result::Result<i64, String> {
+    if i.fract() == 0.0 {
+        Ok(i as i64)
+    } else {
+        Err(format!("vertex index {i} is not an integer"))
+    }
 }
 
 /// Whether a face element holds only the corner list (the layout of most binary PLY files).
@@ -856,5 +916,182 @@ impl Encoder<'_> {
             self.out.write_all(b"\n")?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TRIANGLE_ASCII: &str = "0 0 0\n1 0 0\n0 1 0\n";
+
+    fn read(bytes: &[u8]) -> Result<PolygonMesh> {
+        parse(Path::new("t.ply"), bytes, &ReadOptions::default())
+    }
+
+    fn message(bytes: &[u8]) -> (Location, String) {
+        match read(bytes) {
+            Err(Error::Parse {
+                location, message, ..
+            }) => (location, message),
+            other => panic!("expected a parse error, got {other:?}"),
+        }
+    }
+
+    /// A binary little-endian file: the given header lines, then `body`.
+    fn binary(header: &str, body: &[u8]) -> Vec<u8> {
+        let mut b =
+            format!("ply\nformat binary_little_endian 1.0\n{header}end_header\n").into_bytes();
+        b.extend_from_slice(body);
+        b
+    }
+
+    fn triangle_vertices() -> Vec<u8> {
+        [0f32, 0., 0., 1., 0., 0., 0., 1., 0.]
+            .iter()
+            .flat_map(|x| x.to_le_bytes())
+            .collect()
+    }
+
+    const XYZ: &str = "property float x\nproperty float y\nproperty float z\n";
+
+    #[test]
+    fn face_element_before_vertex_element() {
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\n\
+             element vertex 3\n{XYZ}end_header\n3 0 1 2\n{TRIANGLE_ASCII}"
+        );
+        let mesh = read(text.as_bytes()).unwrap();
+        assert_eq!(mesh.faces().collect::<Vec<_>>(), vec![&[0u32, 1, 2][..]]);
+        assert_eq!(mesh.vertex_count(), 3);
+    }
+
+    #[test]
+    fn element_without_properties_and_a_huge_count_is_skipped() {
+        let header = format!("element junk {}\nelement vertex 3\n{XYZ}", usize::MAX);
+        let mesh = read(&binary(&header, &triangle_vertices())).unwrap();
+        assert_eq!(mesh.vertex_count(), 3);
+    }
+
+    #[test]
+    fn huge_declared_counts_do_not_size_allocations() {
+        let header = format!(
+            "element vertex {}\n{XYZ}element face {}\nproperty list uchar int vertex_indices\n",
+            usize::MAX,
+            usize::MAX
+        );
+        let (location, m) = message(&binary(&header, &triangle_vertices()));
+        assert_eq!(m, "the file ends inside this element");
+        let body = binary(&header, b"").len();
+        assert_eq!(
+            location,
+            Location::Element {
+                kind: "vertex".into(),
+                index: 3,
+                byte_offset: body + 36
+            }
+        );
+        let ascii = format!(
+            "ply\nformat ascii 1.0\nelement vertex {}\n{XYZ}end_header\n",
+            usize::MAX
+        );
+        let (location, m) = message(ascii.as_bytes());
+        assert_eq!(location, Location::Line(7));
+        assert!(
+            m.contains("the file ends after 0 of the 18446744073709551615 vertex elements"),
+            "{m}"
+        );
+    }
+
+    #[test]
+    fn negative_list_length_on_the_binary_fast_path() {
+        let header = format!(
+            "element vertex 3\n{XYZ}element face 1\nproperty list char int vertex_indices\n"
+        );
+        let mut body = triangle_vertices();
+        body.push(0xff); // -1 as char
+        let (location, m) = message(&binary(&header, &body));
+        assert_eq!(m, "the face has a negative corner count -1");
+        assert!(matches!(location, Location::Element { ref kind, index: 0, .. } if kind == "face"));
+    }
+
+    #[test]
+    fn corner_indices_must_be_integers() {
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement vertex 3\n{XYZ}element face 1\n\
+             property list uchar float vertex_indices\nend_header\n{TRIANGLE_ASCII}3 0 1.5 2\n"
+        );
+        assert_eq!(
+            message(text.as_bytes()),
+            (
+                Location::Line(13),
+                "face 0: vertex index 1.5 is not an integer".into()
+            )
+        );
+        let header = format!(
+            "element vertex 3\n{XYZ}element face 1\nproperty list uchar float vertex_indices\n"
+        );
+        let mut body = triangle_vertices();
+        body.push(3);
+        for x in [0f32, f32::NAN, 2.0] {
+            body.extend_from_slice(&x.to_le_bytes());
+        }
+        assert_eq!(
+            message(&binary(&header, &body)).1,
+            "vertex index NaN is not an integer"
+        );
+    }
+
+    #[test]
+    fn non_finite_quality_and_uv_are_refused() {
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement vertex 1\n{XYZ}property float quality\nend_header\n0 0 0 nan\n"
+        );
+        assert_eq!(
+            message(text.as_bytes()),
+            (
+                Location::Line(9),
+                "vertex 0: quality NaN is not finite".into()
+            )
+        );
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement vertex 1\n{XYZ}property float u\nproperty float v\nend_header\n0 0 0 inf 0\n"
+        );
+        assert_eq!(
+            message(text.as_bytes()),
+            (
+                Location::Line(10),
+                "vertex 0: texture coordinates [inf, 0.0] are not finite".into()
+            )
+        );
+    }
+
+    #[test]
+    fn non_finite_colour_is_refused() {
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement vertex 1\n{XYZ}property float red\nend_header\n0 0 0 nan\n"
+        );
+        assert_eq!(
+            message(text.as_bytes()),
+            (
+                Location::Line(9),
+                "vertex 0: colour value NaN is not finite".into()
+            )
+        );
+    }
+
+    #[test]
+    fn ascii_end_of_data_points_at_the_last_line() {
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement vertex 4\n{XYZ}end_header\n{TRIANGLE_ASCII}\n  \n"
+        );
+        assert_eq!(
+            message(text.as_bytes()),
+            (
+                Location::Line(12),
+                "vertex 3: the file ends after 3 of the 4 vertex elements the header declares"
+                    .into()
+            )
+        );
     }
 }

@@ -3,6 +3,8 @@
 //! list. Records are decoded straight from the byte slice with decoders chosen once per
 //! property, instead of one dynamic dispatch per value.
 
+use super::face_check::out_of_range;
+
 /// Decodes one value of a scalar type and byte order from the start of a slice.
 pub type Decode = fn(&[u8]) -> f64;
 
@@ -92,17 +94,16 @@ pub fn read_list_faces(
         let first = indices.len();
         for k in 0..n {
             let i = item_decode(&items[k * item_size..]);
-            if !(0.0..vertex_count as f64).contains(&i) {
-                return Err((
-                    index,
-                    at,
-                    format!(
-                        "vertex index {i} is out of range: the file has {vertex_count} vertices (valid: 0 to {})",
-                        vertex_count as i64 - 1
-                    ),
-                ));
+            // `as` saturates and maps NaN to 0: a value that does not come back is no
+            // integer (a float list with 1.5 or NaN), and must not be truncated.
+            let j = i as i64;
+            if j as f64 != i {
+                return Err((index, at, format!("vertex index {i} is not an integer")));
             }
-            indices.push(i as u32);
+            if let Some(m) = out_of_range(j, vertex_count, 0) {
+                return Err((index, at, m));
+            }
+            indices.push(j as u32);
         }
         if let Some(m) = check(&indices[first..]) {
             return Err((index, at, m));
