@@ -146,7 +146,9 @@ pub fn run(args: &DemoArgs) -> crate::Result<ExitCode> {
         run.error1, run.error, run.c1_jump
     );
     println!("wrote:");
-    for path in crate::fit::paper_kp2022::figures(&args.out, 0)? {
+    for path in
+        crate::report::write_figures(&args.out, &crate::fit::paper_kp2022::figure_meshes(0)?)?
+    {
         println!("  {}", path.display());
     }
     Ok(ExitCode::SUCCESS)

@@ -3,6 +3,7 @@
 
 use crate::fit::fill::FillVariant;
 use crate::fit::{paper_kp2004, paper_kp2022, paper_kpo2024};
+use crate::report::write_figures;
 
 /// Which reproduction to run.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -70,7 +71,7 @@ pub fn run(args: &PaperArgs) -> crate::Result<()> {
                 VariantArg::ExactC1 => FillVariant::ExactC1,
             };
             let rows = paper_kp2022::table1(args.seeds, variant)?;
-            let written = paper_kp2022::figures(&args.figures, 0)?;
+            let written = write_figures(&args.figures, &paper_kp2022::figure_meshes(0)?)?;
             if args.json {
                 return json(&rows);
             }
@@ -106,6 +107,16 @@ pub fn run(args: &PaperArgs) -> crate::Result<()> {
                     "{:>5} {:>7.0e} | {:.3e} [{:.3e}, {:.3e}] {:.4e}",
                     r.points, r.epsilon, r.error.median, r.error.min, r.error.max, r.paper_error
                 );
+            }
+            let fill = paper_kpo2024::fill_run(1500, 1e-9, 0, 3, true)?;
+            println!(
+                "shape-preserving filling (§4–5), M = 1500, ε = 1e-9, seed 0: {} inequalities (positive, increasing in u and v), \
+                 worst violation {:.1e}, {} of {} check points in H violating, σ₁ E_r {:.3e}, filled surface E_r {:.3e}",
+                fill.inequalities, fill.max_violation, fill.lattice_violations, fill.lattice_points, fill.error1, fill.error
+            );
+            println!("figures:");
+            for path in write_figures(&args.figures, &fill.figures)? {
+                println!("  {}", path.display());
             }
         }
         PaperName::Kp2004Example1 | PaperName::Kp2004Example2 => {

@@ -272,14 +272,12 @@ pub fn run(
 }
 
 /// The paper's figures for its text example (n = m = 9 knots, 500 points, ε = 1e-9): the
-/// offset surface with its holes, σ₁ on R − H and the filled σ, as PLY (distance to the
-/// exact offset as quality) and PNG pictures in `dir`. Returns the files written.
+/// offset surface with its holes, σ₁ on R − H and the filled σ, sampled as meshes with the
+/// distance to the exact offset as quality (none on the exact surface).
 ///
-/// Errors: those of [`solve`], and I/O errors writing the files.
-pub fn figures(dir: &std::path::Path, seed: u64) -> Result<Vec<std::path::PathBuf>> {
-    use crate::fit::sample::sample_mesh;
-    use crate::mesh::io::{write, WriteOptions};
-    use crate::report::{render_png, RenderOptions};
+/// Errors: those of [`solve`].
+pub fn figure_meshes(seed: u64) -> Result<Vec<(String, crate::mesh::PolygonMesh)>> {
+    use crate::fit::sample::{keep_faces, sample_mesh};
     const RES: usize = 120;
     let sol = solve(9, 500, 1e-9, seed, FillVariant::Paper)?;
     let off = offset();
@@ -292,46 +290,17 @@ pub fn figures(dir: &std::path::Path, seed: u64) -> Result<Vec<std::path::PathBu
     let sigma = |u: f64, v: f64| sol.fill.eval(&sol.space, u, v, 0, 0);
     let err1 = |u: f64, v: f64| Ok(distance(sigma1(u, v)?, exact(u, v)?));
     let err = |u: f64, v: f64| Ok(distance(sigma(u, v)?, exact(u, v)?));
-    let outside_hole = |k: usize| {
-        let (i, j) = (k / RES, k % RES);
-        let (u, v) = ((i as f64 + 0.5) / RES as f64, (j as f64 + 0.5) / RES as f64);
-        !hole.contains(grid, u, v)
-    };
+    let outside_hole = |u: f64, v: f64| !hole.contains(grid, u, v);
     let mut with_holes = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, &exact, None)?;
-    keep_faces(&mut with_holes, &outside_hole);
+    keep_faces(&mut with_holes, RES, &outside_hole);
     let mut approximated = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, &sigma1, Some(&err1))?;
-    keep_faces(&mut approximated, &outside_hole);
+    keep_faces(&mut approximated, RES, &outside_hole);
     let filled = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, &sigma, Some(&err))?;
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    let mut written = Vec::new();
-    for (name, mesh) in [
-        ("kp2022_offset_with_holes", &with_holes),
-        ("kp2022_sigma1_approximation", &approximated),
-        ("kp2022_filled", &filled),
-    ] {
-        let (ply, png) = (
-            dir.join(format!("{name}.ply")),
-            dir.join(format!("{name}.png")),
-        );
-        write(&ply, mesh, &WriteOptions::default())?;
-        render_png(mesh, &png, &RenderOptions::default())?;
-        written.push(ply);
-        written.push(png);
-    }
-    Ok(written)
-}
-
-/// Keeps the faces `keep` accepts (by face index), vertices unchanged.
-fn keep_faces(mesh: &mut crate::mesh::PolygonMesh, keep: &dyn Fn(usize) -> bool) {
-    let faces: Vec<Vec<u32>> = mesh
-        .faces()
-        .enumerate()
-        .filter(|(k, _)| keep(*k))
-        .map(|(_, f)| f.to_vec())
-        .collect();
-    let kept = crate::mesh::PolygonMesh::from_polygons(Vec::new(), &faces);
-    mesh.face_offsets = kept.face_offsets;
-    mesh.face_indices = kept.face_indices;
+    Ok(vec![
+        ("kp2022_offset_with_holes".into(), with_holes),
+        ("kp2022_sigma1_approximation".into(), approximated),
+        ("kp2022_filled".into(), filled),
+    ])
 }
 
 /// Table 1 of the 2022 paper: every row run over seeds 0..`seeds`.

@@ -254,6 +254,10 @@ pub struct Kpo2024Fill {
     pub lattice_violations: usize,
     /// Lattice points checked.
     pub lattice_points: usize,
+    /// The paper's figures when asked for: the offset with its hole, σ₁ on Ω − H and the
+    /// filled σ, sampled with the distance to the exact offset as quality.
+    #[serde(skip)]
+    pub figures: Vec<(String, crate::mesh::PolygonMesh)>,
 }
 
 /// The whole method of the 2024 paper (§3–5) on one point set: σ₁, σ̄₁ = σ₁ − offset
@@ -266,6 +270,7 @@ pub fn fill_run(
     epsilon: f64,
     seed: u64,
     extra_per_side: usize,
+    figures: bool,
 ) -> Result<Kpo2024Fill> {
     use super::shape::{shape_preserving_fill, ShapeConstraints};
     let f = fit(points, epsilon, seed, true)?;
@@ -332,6 +337,29 @@ pub fn fill_run(
             }
         }
     }
+    let figures = if figures {
+        use super::sample::{keep_faces, sample_mesh};
+        const RES: usize = 120;
+        let distance =
+            |a: [f64; 3], b: [f64; 3]| ((0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>()).sqrt();
+        let exact = |u: f64, v: f64| off.point(u, v);
+        let sigma1 = |u: f64, v: f64| f.sigma1.eval(&f.space, u, v, 0, 0);
+        let err1 = |u: f64, v: f64| Ok(distance(sigma1(u, v)?, exact(u, v)?));
+        let err = |u: f64, v: f64| Ok(distance(sigma(u, v)?, exact(u, v)?));
+        let outside = |u: f64, v: f64| !hole.contains(grid, u, v);
+        let mut with_hole = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, &exact, None)?;
+        keep_faces(&mut with_hole, RES, &outside);
+        let mut approximated = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, &sigma1, Some(&err1))?;
+        keep_faces(&mut approximated, RES, &outside);
+        let filled_mesh = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, &sigma, Some(&err))?;
+        vec![
+            ("kpo2024_offset_with_hole".into(), with_hole),
+            ("kpo2024_sigma1_approximation".into(), approximated),
+            ("kpo2024_shape_preserving_fill".into(), filled_mesh),
+        ]
+    } else {
+        Vec::new()
+    };
     Ok(Kpo2024Fill {
         error1,
         error,
@@ -339,6 +367,7 @@ pub fn fill_run(
         max_violation: filled.report.max_violation,
         lattice_violations: bad,
         lattice_points: checked,
+        figures,
     })
 }
 
@@ -434,7 +463,7 @@ mod tests {
 
     #[test]
     fn shape_preserving_fill_meets_its_constraints() {
-        let r = fill_run(1500, 1e-9, 0, 3).unwrap();
+        let r = fill_run(1500, 1e-9, 0, 3, false).unwrap();
         assert!(r.inequalities > 0);
         // Interior-point accuracy: clarabel's default tolerances are ~1e-8.
         assert!(
