@@ -49,6 +49,23 @@ pub fn sample_mesh(
     Ok(mesh)
 }
 
+/// Keeps the faces of a [`sample_mesh`] lattice of `res × res` cells (over [0, 1]²) whose
+/// centre (u, v) `keep` accepts; vertices are unchanged.
+pub fn keep_faces(mesh: &mut PolygonMesh, res: usize, keep: &dyn Fn(f64, f64) -> bool) {
+    let faces: Vec<Vec<u32>> = mesh
+        .faces()
+        .enumerate()
+        .filter(|(k, _)| {
+            let (i, j) = (k / res, k % res);
+            keep((i as f64 + 0.5) / res as f64, (j as f64 + 0.5) / res as f64)
+        })
+        .map(|(_, f)| f.to_vec())
+        .collect();
+    let kept = PolygonMesh::from_polygons(Vec::new(), &faces);
+    mesh.face_offsets = kept.face_offsets;
+    mesh.face_indices = kept.face_indices;
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -68,21 +85,4 @@ mod tests {
         assert_eq!(m.quality.as_ref().unwrap().len(), 25);
         assert!(sample_mesh([0.0, 1.0], [0.0, 1.0], 0, &|u, v| Ok([u, v, 0.0]), None).is_err());
     }
-}
-
-/// Keeps the faces of a [`sample_mesh`] lattice of `res × res` cells (over [0, 1]²) whose
-/// centre (u, v) `keep` accepts; vertices are unchanged.
-pub fn keep_faces(mesh: &mut PolygonMesh, res: usize, keep: &dyn Fn(f64, f64) -> bool) {
-    let faces: Vec<Vec<u32>> = mesh
-        .faces()
-        .enumerate()
-        .filter(|(k, _)| {
-            let (i, j) = (k / res, k % res);
-            keep((i as f64 + 0.5) / res as f64, (j as f64 + 0.5) / res as f64)
-        })
-        .map(|(_, f)| f.to_vec())
-        .collect();
-    let kept = PolygonMesh::from_polygons(Vec::new(), &faces);
-    mesh.face_offsets = kept.face_offsets;
-    mesh.face_indices = kept.face_indices;
 }
