@@ -7,6 +7,7 @@
 #![deny(unsafe_code)]
 
 pub mod error;
+pub mod fair;
 mod ffi;
 pub mod mesh;
 pub mod subdiv;

@@ -1,0 +1,148 @@
+//! Shape optimization of Catmull–Clark surfaces (Kiciak, "Shape optimization of smooth
+//! surfaces with arbitrary topology"): the free control vertices of a quad mesh are moved
+//! to minimize F = S + c Q (eq. 4), S = ∫‖∇_M H‖² dM the unevenness of the mean curvature
+//! and Q a regularization of the parameterization, by Newton's method with the exact
+//! Hessian and Levenberg–Marquardt safeguards (§5).
+//!
+//! - [`prepare`]: refine until the paper's conditions hold (§2); χ checked.
+//! - [`Representation`] / [`PatchRepresentation`]: control vertices → derivatives at
+//!   quadrature points, from OpenSubdiv's B-spline patches (see [`EndCaps`] for how the
+//!   end caps at extraordinary vertices enter S).
+//! - [`Functional`]: F, its gradient and Hessian (automatic differentiation).
+//! - [`optimize`]: the whole method on a mesh; topology and vertex order are kept.
+
+mod cholesky;
+mod disc;
+mod functional;
+mod optimize;
+mod prepare;
+mod quadrature;
+mod representation;
+mod topology;
+
+pub use cholesky::{Factor, Factorizer};
+pub use disc::sector_disc;
+pub use functional::{BlockHessian, Functional, Terms};
+pub use optimize::{newton, Iteration, NewtonOptions, NewtonReport, StepKind};
+pub use prepare::{fixed_vertices, prepare};
+pub use quadrature::{gauss_legendre, MAX_NODES};
+pub use representation::{
+    EndCaps, PatchRepresentation, QuadraturePoint, Representation, RepresentationOptions,
+    DERIVATIVES,
+};
+pub use topology::{condition_violation, MeshTopology};
+
+use crate::error::{Error, Result};
+use crate::mesh::PolygonMesh;
+
+/// Options of [`optimize`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct FairOptions {
+    pub representation: RepresentationOptions,
+    pub newton: NewtonOptions,
+    /// Vertices closer than this many edges to the boundary are fixed (§4: 3).
+    pub boundary_rings: u32,
+    /// User-given fixed vertices (soft constraints, §4).
+    pub fixed: Vec<u32>,
+    /// Most uniform refinements [`prepare`] may apply; 0 requires the input to meet the
+    /// conditions already (then the output has the input's topology and vertex order).
+    pub max_refinements: u32,
+}
+
+impl Default for FairOptions {
+    fn default() -> Self {
+        FairOptions {
+            representation: RepresentationOptions::default(),
+            newton: NewtonOptions::default(),
+            boundary_rings: 3,
+            fixed: Vec::new(),
+            max_refinements: 2,
+        }
+    }
+}
+
+/// What [`optimize`] did.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct FairReport {
+    /// Uniform refinements applied by [`prepare`] (0: same topology as the input).
+    pub refinements: u32,
+    pub vertices: usize,
+    pub free_vertices: usize,
+    pub elements: usize,
+    /// c of eq. 4.
+    pub c: f64,
+    pub newton: NewtonReport,
+    pub final_terms: Terms,
+    pub final_gradient_norm: f64,
+}
+
+/// c = |E|² / D⁴ (§4), D the diameter of the fixed vertices (the boundary's, for a mesh
+/// whose boundary rings are fixed).
+fn scale_constant(mesh: &PolygonMesh, fixed: &[bool], elements: usize) -> Result<f64> {
+    let pts: Vec<[f64; 3]> = (0..mesh.vertex_count())
+        .filter(|&v| fixed[v])
+        .map(|v| mesh.positions[v])
+        .collect();
+    let mut d2: f64 = 0.0;
+    for (i, a) in pts.iter().enumerate() {
+        for b in &pts[i + 1..] {
+            d2 = d2.max((0..3).map(|k| (a[k] - b[k]).powi(2)).sum());
+        }
+    }
+    if !(d2 > 0.0) || elements == 0 {
+        return Err(Error::InvalidInput(format!(
+            "c = |E|²/D⁴ is undefined: {elements} elements, fixed-vertex diameter {}",
+            d2.sqrt()
+        )));
+    }
+    Ok((elements as f64).powi(2) / (d2 * d2))
+}
+
+/// Optimizes the shape of `mesh`'s Catmull–Clark surface (the whole method of the paper).
+///
+/// The mesh is first refined by [`prepare`] if needed (at most
+/// `options.max_refinements` levels); fixed vertices (§4) keep their coordinates bit for
+/// bit; the returned mesh has the (prepared) mesh's faces and vertex order.
+///
+/// # Errors
+/// [`Error::InvalidInput`] for an invalid mesh or options, or a closed mesh with nothing
+/// fixed; [`Error::Topology`] for a non-manifold mesh or one refinement cannot prepare;
+/// [`Error::Solver`] when the optimizer cannot decrease F; errors of OpenSubdiv.
+pub fn optimize(mesh: &PolygonMesh, options: &FairOptions) -> Result<(PolygonMesh, FairReport)> {
+    let (prepared, refinements) = prepare(mesh, options.max_refinements)?;
+    if refinements > 0 && !options.fixed.is_empty() {
+        return Err(Error::InvalidInput(
+            "user-given fixed vertices refer to the input's ids, but the mesh needs \
+             refinement first; refine it (fair::prepare) and give ids of the refined mesh"
+                .into(),
+        ));
+    }
+    let topo = MeshTopology::new(&prepared)?;
+    let fixed = fixed_vertices(&topo, options.boundary_rings, &options.fixed)?;
+    let mut special = vec![false; prepared.vertex_count()];
+    for v in topo.special_vertices() {
+        special[v as usize] = true;
+    }
+    let rep =
+        PatchRepresentation::new(&prepared, &topo.boundary, &special, &options.representation)?;
+    let c = scale_constant(&prepared, &fixed, rep.element_count())?;
+    let functional = Functional::new(&rep, &fixed, c);
+    let mut positions = prepared.positions.clone();
+    let report = newton(&functional, &mut positions, &options.newton)?;
+    let (final_terms, g) = functional.gradient(&positions);
+    let mut out = prepared.clone();
+    out.positions = positions;
+    Ok((
+        out,
+        FairReport {
+            refinements,
+            vertices: prepared.vertex_count(),
+            free_vertices: functional.free_count(),
+            elements: rep.element_count(),
+            c,
+            newton: report,
+            final_terms,
+            final_gradient_norm: g.iter().map(|x| x * x).sum::<f64>().sqrt(),
+        },
+    ))
+}
