@@ -19,6 +19,7 @@ mod prepare;
 mod quadrature;
 mod representation;
 mod topology;
+mod tubes;
 
 pub use cholesky::{Factor, Factorizer};
 pub use disc::sector_disc;
@@ -31,6 +32,7 @@ pub use representation::{
     DERIVATIVES,
 };
 pub use topology::{condition_violation, MeshTopology};
+pub use tubes::tubes;
 
 use crate::error::{Error, Result};
 use crate::mesh::PolygonMesh;
