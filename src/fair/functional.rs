@@ -56,9 +56,8 @@ fn mean_curvature<U: DualNum<Primitive = f64> + Copy>(
     (e * nn - f * m * 2.0 + g * l) / (w2 * w2.sqrt() * 2.0)
 }
 
-/// Densities of S (eq. 3: ∇H G⁻¹ ∇Hᵀ √det G) and Q (eq. 5: ‖P ∇Δp‖²_F, with Δp = p_uu + p_vv
-/// in the element's parameters and P = I − n nᵀ) at a point with derivatives `d`.
-fn densities<T: DualNum<Primitive = f64> + Copy>(d: &[[T; 3]; DERIVATIVES]) -> (T, T) {
+/// Density of S (eq. 3): ∇H G⁻¹ ∇Hᵀ √det G at a point with derivatives `d`.
+fn s_density<T: DualNum<Primitive = f64> + Copy>(d: &[[T; 3]; DERIVATIVES]) -> T {
     let [pu, pv, puu, puv, pvv, puuu, puuv, puvv, pvvv] = d;
     let lift =
         |a: &[T; 3], b: &[T; 3]| -> [Dual<T>; 3] { std::array::from_fn(|k| Dual::new(a[k], b[k])) };
@@ -81,13 +80,83 @@ fn densities<T: DualNum<Primitive = f64> + Copy>(d: &[[T; 3]; DERIVATIVES]) -> (
     .eps;
     let (e, f, g) = (dot(pu, pu), dot(pu, pv), dot(pv, pv));
     let w2 = e * g - f * f;
-    let s = (hu * hu * g - hu * hv * f * 2.0 + hv * hv * e) / w2.sqrt();
+    (hu * hu * g - hu * hv * f * 2.0 + hv * hv * e) / w2.sqrt()
+}
+
+/// Number of variables of Q's density: p_u, p_v, ∂Δp/∂u, ∂Δp/∂v.
+const Q_VARS: usize = 12;
+
+/// The derivatives (of the nine) each of Q's four vector variables sums.
+const Q_MAP: [&[usize]; 4] = [&[0], &[1], &[5, 7], &[6, 8]];
+
+/// Density of Q (eq. 5): ‖P ∇Δp‖²_F with Δp = p_uu + p_vv in the element's parameters and
+/// P = I − n nᵀ, from `q = [p_u, p_v, ∂Δp/∂u, ∂Δp/∂v]`.
+fn q_density<T: DualNum<Primitive = f64> + Copy>(q: &[[T; 3]; 4]) -> T {
+    let [pu, pv, lap_u, lap_v] = q;
+    let (e, f, g) = (dot(pu, pu), dot(pu, pv), dot(pv, pv));
+    let w2 = e * g - f * f;
     let n = cross(pu, pv);
-    let lap_u: [T; 3] = std::array::from_fn(|k| puuu[k] + puvv[k]);
-    let lap_v: [T; 3] = std::array::from_fn(|k| puuv[k] + pvvv[k]);
-    let (nu, nv) = (dot(&n, &lap_u), dot(&n, &lap_v));
-    let q = dot(&lap_u, &lap_u) + dot(&lap_v, &lap_v) - (nu * nu + nv * nv) / w2;
-    (s, q)
+    let (nu, nv) = (dot(&n, lap_u), dot(&n, lap_v));
+    dot(lap_u, lap_u) + dot(lap_v, lap_v) - (nu * nu + nv * nv) / w2
+}
+
+fn q_vars<T: DualNum<Primitive = f64> + Copy>(d: &[[T; 3]; DERIVATIVES]) -> [[T; 3]; 4] {
+    std::array::from_fn(|i| std::array::from_fn(|a| Q_MAP[i].iter().map(|&k| d[k][a]).sum()))
+}
+
+/// Densities of S and Q at a point with derivatives `d`.
+fn densities<T: DualNum<Primitive = f64> + Copy>(d: &[[T; 3]; DERIVATIVES]) -> (T, T) {
+    (s_density(d), q_density(&q_vars(d)))
+}
+
+/// Gradient and Hessian of `ws · S-density + wq · Q-density` with respect to the 27
+/// derivative coordinates; Q's part is differentiated in its own 12 variables and mapped.
+fn point_hessian(
+    x: &[f64; VARS],
+    ws: f64,
+    wq: f64,
+) -> (SVector<f64, VARS>, nalgebra::SMatrix<f64, VARS, VARS>) {
+    let (mut g, mut h) = if ws != 0.0 {
+        let (_, g, h) = hessian(
+            |y| s_density(&unpack(y.as_slice())) * ws,
+            &SVector::<f64, VARS>::from(*x),
+        );
+        (g, h)
+    } else {
+        (SVector::zeros(), nalgebra::SMatrix::zeros())
+    };
+    let q = q_vars(&unpack(x));
+    let qx = SVector::<f64, Q_VARS>::from_fn(|i, _| q[i / 3][i % 3]);
+    let (_, gq, hq) = hessian(
+        |y| {
+            q_density(&std::array::from_fn(|i| {
+                [y[3 * i], y[3 * i + 1], y[3 * i + 2]]
+            })) * wq
+        },
+        &qx,
+    );
+    for (i, di) in Q_MAP.iter().enumerate() {
+        for a in 0..3 {
+            for &d in *di {
+                g[3 * d + a] += gq[3 * i + a];
+            }
+            for (j, dj) in Q_MAP.iter().enumerate() {
+                for b in 0..3 {
+                    let v = hq[(3 * i + a, 3 * j + b)];
+                    for &d in *di {
+                        for &e in *dj {
+                            h[(3 * d + a, 3 * e + b)] += v;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    (g, h)
+}
+
+fn norm3(a: &[f64; 3]) -> f64 {
+    dot(a, a).sqrt()
 }
 
 fn unpack<T: Copy>(x: &[T]) -> [[T; 3]; DERIVATIVES] {
@@ -203,6 +272,28 @@ impl<'a, R: Representation> Functional<'a, R> {
         t
     }
 
+    /// Area-weighted mean and standard deviation of the mean curvature H over the
+    /// quadrature points where S is integrated (the surface measure √det G dE of eq. 3).
+    pub fn mean_curvature_statistics(&self, positions: &[[f64; 3]]) -> (f64, f64) {
+        let (mut area, mut sum, mut sum2) = (0.0, 0.0, 0.0);
+        for (k, p) in self.rep.points().iter().enumerate() {
+            if p.weight_s == 0.0 {
+                continue;
+            }
+            let d = unpack(&point_derivatives(self.rep, k, positions));
+            let h = mean_curvature(&d[0], &d[1], &d[2], &d[3], &d[4]);
+            let w = p.weight_s * norm3(&cross(&d[0], &d[1]));
+            area += w;
+            sum += w * h;
+            sum2 += w * h * h;
+        }
+        if area == 0.0 {
+            return (0.0, 0.0);
+        }
+        let mean = sum / area;
+        (mean, (sum2 / area - mean * mean).max(0.0).sqrt())
+    }
+
     /// The terms and the gradient of F̃ (3 entries per free vertex).
     pub fn gradient(&self, positions: &[[f64; 3]]) -> (Terms, Vec<f64>) {
         let mut t = Terms::default();
@@ -252,18 +343,12 @@ impl<'a, R: Representation> Functional<'a, R> {
         let mut values = vec![[[0.0; 3]; 3]; self.blocks.len()];
         let mut right: Vec<[[f64; 3]; VARS]> = Vec::new();
         for (k, p) in self.rep.points().iter().enumerate() {
-            let x = SVector::<f64, VARS>::from(point_derivatives(self.rep, k, positions));
+            let x = point_derivatives(self.rep, k, positions);
             let (ws, wq) = (p.weight_s, self.c * p.weight_q);
-            let (s, q) = densities(&unpack(x.as_slice()));
+            let (s, q) = densities(&unpack(&x));
             t.s += ws * s;
             t.q += p.weight_q * q;
-            let (_, grad, h) = hessian(
-                |y| {
-                    let (s, q) = densities(&unpack(y.as_slice()));
-                    s * ws + q * wq
-                },
-                &x,
-            );
+            let (grad, h) = point_hessian(&x, ws, wq);
             self.scatter_gradient(k, grad.as_slice(), &mut g);
             // right[l][3d + a][b] = Σ_e c_l[e] h[3d + a][3e + b]
             let m = p.vertices.len();

@@ -174,8 +174,8 @@ pub fn newton<R: Representation>(
             }
         }
         // 3. Levenberg–Marquardt trajectory: minimize f(ν) = F̃(x + δ_ν) (eq. 8–9) over
-        // ν on a geometric grid: grow ν until F decreases, then shrink it while F keeps
-        // decreasing further.
+        // ν on a geometric grid (factors of 4): grow ν until F decreases, then follow the
+        // direction in which F keeps decreasing.
         let scale = h
             .blocks
             .iter()
@@ -210,14 +210,23 @@ pub fn newton<R: Representation>(
                 ),
             });
         };
-        for _ in 0..30 {
-            match try_nu(best_nu / 4.0, &mut factorizer) {
-                Some((t, x)) if t.f < best_t.f => {
-                    best_nu /= 4.0;
-                    best_t = t;
-                    best_x = x;
+        // f(ν) along the trajectory: move ν by factors of 4 in the direction that lowers
+        // F further, until it stops improving.
+        for factor in [0.25, 4.0] {
+            let mut moved_any = false;
+            for _ in 0..30 {
+                match try_nu(best_nu * factor, &mut factorizer) {
+                    Some((t, x)) if t.f < best_t.f => {
+                        best_nu *= factor;
+                        best_t = t;
+                        best_x = x;
+                        moved_any = true;
+                    }
+                    _ => break,
                 }
-                _ => break,
+            }
+            if moved_any {
+                break;
             }
         }
         *positions = best_x;
