@@ -12,7 +12,9 @@ use surfkit::fair::{
 };
 
 /// (vertices, m, rings, paper Table 1 seconds, BSTools seconds on this machine).
-const SIZES: [(usize, u32, u32, Option<f64>, Option<f64>); 4] = [
+type Size = (usize, u32, u32, Option<f64>, Option<f64>);
+
+const SIZES: [Size; 4] = [
     (359, 4, 3, None, Some(13.8)),
     (1007, 8, 2, Some(75.0), None),
     (3743, 16, 3, Some(563.0), None),

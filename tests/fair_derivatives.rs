@@ -81,11 +81,11 @@ fn check_gradient_and_hessian(mesh: &PolygonMesh, hessian_columns: usize) {
     let n = g.len();
     let mut dense = vec![0.0; n * n];
     for (&(i, j), b) in h.blocks.iter().zip(&h.values) {
-        for a in 0..3 {
-            for c in 0..3 {
+        for (a, row) in b.iter().enumerate() {
+            for (c, &x) in row.iter().enumerate() {
                 let (r, s) = (3 * i as usize + a, 3 * j as usize + c);
-                dense[r * n + s] = b[a][c];
-                dense[s * n + r] = b[a][c];
+                dense[r * n + s] = x;
+                dense[s * n + r] = x;
             }
         }
     }

@@ -81,8 +81,8 @@ fn check(mesh: &surfkit::mesh::PolygonMesh, representation: RepresentationOption
     assert_eq!(out.face_indices, mesh.face_indices);
     let topo = MeshTopology::new(&mesh).unwrap();
     let fixed = fixed_vertices(&topo, 3, &[]).unwrap();
-    for v in 0..mesh.vertex_count() {
-        if fixed[v] {
+    for (v, &held) in fixed.iter().enumerate() {
+        if held {
             assert_eq!(
                 out.positions[v].map(f64::to_bits),
                 mesh.positions[v].map(f64::to_bits),

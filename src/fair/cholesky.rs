@@ -40,12 +40,12 @@ impl Factorizer {
         let mut triplets = Vec::with_capacity(9 * h.blocks.len() + self.n);
         for (&(i, j), v) in h.blocks.iter().zip(&h.values) {
             let (i, j) = (3 * i as usize, 3 * j as usize);
-            for a in 0..3 {
-                for b in 0..3 {
+            for (a, row) in v.iter().enumerate() {
+                for (b, &x) in row.iter().enumerate() {
                     if i == j && a > b {
                         continue;
                     }
-                    triplets.push(Triplet::new(i + a, j + b, v[a][b]));
+                    triplets.push(Triplet::new(i + a, j + b, x));
                 }
             }
         }

@@ -91,7 +91,7 @@ fn scale_constant(mesh: &PolygonMesh, fixed: &[bool], elements: usize) -> Result
             d2 = d2.max((0..3).map(|k| (a[k] - b[k]).powi(2)).sum());
         }
     }
-    if !(d2 > 0.0) || elements == 0 {
+    if d2.is_nan() || d2 <= 0.0 || elements == 0 {
         return Err(Error::InvalidInput(format!(
             "c = |E|²/D⁴ is undefined: {elements} elements, fixed-vertex diameter {}",
             d2.sqrt()
