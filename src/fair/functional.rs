@@ -14,6 +14,7 @@ use nalgebra::SVector;
 use num_dual::{gradient, hessian, Dual, DualNum};
 
 use crate::fair::representation::{Representation, DERIVATIVES};
+use crate::fair::second_order::{self, Num, Second};
 
 const VARS: usize = 3 * DERIVATIVES;
 
@@ -117,11 +118,14 @@ fn point_hessian(
     wq: f64,
 ) -> (SVector<f64, VARS>, nalgebra::SMatrix<f64, VARS, VARS>) {
     let (mut g, mut h) = if ws != 0.0 {
-        let (_, g, h) = hessian(
-            |y| s_density(&unpack(y.as_slice())) * ws,
-            &SVector::<f64, VARS>::from(*x),
-        );
-        (g, h)
+        let d: [[Second; 3]; DERIVATIVES] = std::array::from_fn(|k| {
+            std::array::from_fn(|a| Second::variable(x[3 * k + a], 3 * k + a))
+        });
+        let s = second_order::s_density(&d).scale(ws);
+        (
+            SVector::<f64, VARS>::from(s.g),
+            nalgebra::SMatrix::<f64, VARS, VARS>::from_row_slice(&s.hessian()),
+        )
     } else {
         (SVector::zeros(), nalgebra::SMatrix::zeros())
     };
@@ -445,15 +449,46 @@ mod tests {
     }
 
     #[test]
-    fn plane_has_no_q_density_for_tangent_third_derivatives() {
-        // Third derivatives normal to the plane are projected away by P.
+    fn own_second_order_type_matches_num_dual() {
+        // A generic point: derivatives with no special structure.
+        let x: [f64; VARS] = std::array::from_fn(|i| {
+            let t = i as f64;
+            (0.7 * t + 0.3).sin() + if i == 0 || i == 4 { 2.0 } else { 0.0 }
+        });
+        let d = unpack(&x);
+        assert_near!(second_order::s_density(&d), s_density(&d), ROUND_OFF);
+        let (value, grad, hess) = hessian(
+            |y| s_density(&unpack(y.as_slice())),
+            &SVector::<f64, VARS>::from(x),
+        );
+        let own: [[Second; 3]; DERIVATIVES] = std::array::from_fn(|k| {
+            std::array::from_fn(|a| Second::variable(x[3 * k + a], 3 * k + a))
+        });
+        let own = second_order::s_density(&own);
+        let full = own.hessian();
+        let scale = hess.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert_near!(own.re, value, ROUND_OFF);
+        for i in 0..VARS {
+            assert_near!(own.g[i] / scale, grad[i] / scale, ROUND_OFF);
+            for j in 0..VARS {
+                assert_near!(full[i * VARS + j] / scale, hess[(i, j)] / scale, ROUND_OFF);
+            }
+        }
+    }
+
+    #[test]
+    fn flat_point_closed_forms() {
+        // Third derivatives normal to the tangent plane are projected away by P in Q.
         let mut d = [[0.0; 3]; DERIVATIVES];
         d[0] = [1.0, 0.0, 0.0];
         d[1] = [0.0, 1.0, 0.0];
         d[5] = [0.0, 0.0, 2.0];
         d[8] = [0.0, 0.0, -1.0];
         let (s, q) = densities(&d);
-        assert_near!(s, 0.0, ROUND_OFF);
+        // At a flat point of the graph z(u, v), H_u = (z_uuu + z_uvv) / 2 = 1 and
+        // H_v = (z_uuv + z_vvv) / 2 = −1/2: the density is H_u² + H_v².
+        assert_near!(s, 1.25, ROUND_OFF);
+        assert_near!(second_order::s_density(&d), 1.25, ROUND_OFF);
         assert_near!(q, 0.0, ROUND_OFF);
         // A tangential one is not: ‖(3, 0, 0)‖² for Δp_u.
         d[5] = [3.0, 0.0, 0.0];

@@ -18,6 +18,7 @@ mod optimize;
 mod prepare;
 mod quadrature;
 mod representation;
+mod second_order;
 mod topology;
 mod tubes;
 
@@ -78,11 +79,11 @@ pub struct FairReport {
     pub final_gradient_norm: f64,
 }
 
-/// c = |E|² / D⁴ (§4), D the diameter of the fixed vertices (the boundary's, for a mesh
-/// whose boundary rings are fixed).
-fn scale_constant(mesh: &PolygonMesh, fixed: &[bool], elements: usize) -> Result<f64> {
+/// c = |E|² / D⁴ (§4), D the diameter of the surface boundary, taken as that of the
+/// boundary control vertices (`held`), or of the fixed vertices for a closed mesh.
+fn scale_constant(mesh: &PolygonMesh, held: &[bool], elements: usize) -> Result<f64> {
     let pts: Vec<[f64; 3]> = (0..mesh.vertex_count())
-        .filter(|&v| fixed[v])
+        .filter(|&v| held[v])
         .map(|v| mesh.positions[v])
         .collect();
     let mut d2: f64 = 0.0;
@@ -93,7 +94,7 @@ fn scale_constant(mesh: &PolygonMesh, fixed: &[bool], elements: usize) -> Result
     }
     if d2.is_nan() || d2 <= 0.0 || elements == 0 {
         return Err(Error::InvalidInput(format!(
-            "c = |E|²/D⁴ is undefined: {elements} elements, fixed-vertex diameter {}",
+            "c = |E|²/D⁴ is undefined: {elements} elements, boundary diameter {}",
             d2.sqrt()
         )));
     }
@@ -127,7 +128,12 @@ pub fn optimize(mesh: &PolygonMesh, options: &FairOptions) -> Result<(PolygonMes
     }
     let rep =
         PatchRepresentation::new(&prepared, &topo.boundary, &special, &options.representation)?;
-    let c = scale_constant(&prepared, &fixed, rep.element_count())?;
+    let held = if topo.boundary.iter().any(|&b| b) {
+        &topo.boundary
+    } else {
+        &fixed
+    };
+    let c = scale_constant(&prepared, held, rep.element_count())?;
     let functional = Functional::new(&rep, &fixed, c);
     let mut positions = prepared.positions.clone();
     let report = newton(&functional, &mut positions, &options.newton)?;
