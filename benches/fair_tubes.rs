@@ -3,7 +3,8 @@
 //! the time depends on the start), printed next to the paper's Table 1 seconds and the
 //! author's BSTools times measured on this kind of machine (issue 6).
 //!
-//! Sizes: `FAIR_BENCH_SIZES=359,1007,3743,14399` (default `359,1007`).
+//! Sizes: `FAIR_BENCH_SIZES=359,1007,3743,14399` (default `359,1007`); OpenSubdiv's
+//! isolation level around extraordinary vertices: `FAIR_BENCH_ISOLATION` (default 4).
 
 use std::time::Instant;
 
@@ -74,10 +75,16 @@ fn main() -> surfkit::Result<()> {
     );
     for &(nv, m, rings, paper, bstools) in SIZES.iter().filter(|s| wanted.contains(&s.0)) {
         let mesh = tubes(3, m, rings)?;
-        let options = FairOptions {
+        let mut options = FairOptions {
             max_refinements: 0,
             ..FairOptions::default()
         };
+        if let Some(level) = std::env::var("FAIR_BENCH_ISOLATION")
+            .ok()
+            .and_then(|s| s.parse().ok())
+        {
+            options.representation.isolation = level;
+        }
         let start = Instant::now();
         let cpu0 = cpu_seconds();
         let (out, report) = optimize(&mesh, &options)?;

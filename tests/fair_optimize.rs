@@ -34,7 +34,7 @@ fn fair_optimize_valence_5_disc() {
 }
 
 #[test]
-#[ignore = "about 3 minutes in release; run with --ignored"]
+#[ignore = "about 30 s in release (longer at the test profile's opt-level 1); run with --ignored"]
 fn fair_optimize_three_tubes() {
     check(
         &tubes(3, 4, 3).unwrap(),
