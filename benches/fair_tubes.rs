@@ -5,7 +5,7 @@
 //!
 //! Sizes: `FAIR_BENCH_SIZES=359,1007,3743,14399` (default `359,1007`); OpenSubdiv's
 //! isolation level around extraordinary vertices: `FAIR_BENCH_ISOLATION` (default 4);
-//! `FAIR_BENCH_NO_WARM_START=1` optimizes at that level only (no coarse warm start).
+//! `FAIR_BENCH_WARM_START=2` first optimizes at level 2 (see `FairOptions`).
 
 use std::time::Instant;
 
@@ -86,8 +86,11 @@ fn main() -> surfkit::Result<()> {
         {
             options.representation.isolation = level;
         }
-        if std::env::var("FAIR_BENCH_NO_WARM_START").is_ok() {
-            options.warm_start_isolation = None;
+        if let Some(level) = std::env::var("FAIR_BENCH_WARM_START")
+            .ok()
+            .and_then(|s| s.parse().ok())
+        {
+            options.warm_start_isolation = Some(level);
         }
         let start = Instant::now();
         let cpu0 = cpu_seconds();
