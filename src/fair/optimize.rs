@@ -19,6 +19,8 @@ pub enum StepKind {
     ReusedNewton,
     /// Minimum along the Levenberg–Marquardt trajectory (eq. 8–9).
     LevenbergMarquardt,
+    /// Backtracking step along −g when no H + νI gave one (a safeguard, not in the paper).
+    SteepestDescent,
 }
 
 /// One line of the per-iteration log.
@@ -200,6 +202,22 @@ pub fn newton<R: Representation>(
             }
             nu *= 4.0;
         }
+        if best.is_none() {
+            // Safeguard (not in the paper): every H + νI failed to factor or to decrease F
+            // (a non-finite Hessian entry at a nearly degenerate point, say). Steepest
+            // descent with backtracking still decreases F when the gradient is sound.
+            let mut alpha = 1.0 / scale.max(f64::MIN_POSITIVE);
+            for _ in 0..60 {
+                let delta: Vec<f64> = g.iter().map(|x| -alpha * x).collect();
+                let trial = moved(positions, &free, &delta);
+                let t = functional.value(&trial);
+                if t.f.is_finite() && t.f < terms.f {
+                    best = Some((f64::INFINITY, (t, trial)));
+                    break;
+                }
+                alpha *= 0.25;
+            }
+        }
         let Some((mut best_nu, (mut best_t, mut best_x))) = best else {
             return Err(Error::Solver {
                 failure: crate::error::SolverFailure::NotConverged,
@@ -212,7 +230,12 @@ pub fn newton<R: Representation>(
         };
         // f(ν) along the trajectory: move ν by factors of 4 in the direction that lowers
         // F further, until it stops improving.
-        for factor in [0.25, 4.0] {
+        let refine: &[f64] = if best_nu.is_finite() {
+            &[0.25, 4.0]
+        } else {
+            &[]
+        };
+        for &factor in refine {
             let mut moved_any = false;
             for _ in 0..30 {
                 match try_nu(best_nu * factor, &mut factorizer) {
@@ -237,8 +260,12 @@ pub fn newton<R: Representation>(
         report.iterations.push(Iteration {
             terms,
             gradient_norm: norm(&g),
-            step: StepKind::LevenbergMarquardt,
-            nu: Some(best_nu),
+            step: if best_nu.is_finite() {
+                StepKind::LevenbergMarquardt
+            } else {
+                StepKind::SteepestDescent
+            },
+            nu: best_nu.is_finite().then_some(best_nu),
         });
     }
     if !report.converged {
