@@ -8,6 +8,7 @@
 
 pub mod cli;
 pub mod error;
+pub mod fair;
 mod ffi;
 pub mod fit;
 pub mod halfedge;

@@ -3,6 +3,7 @@
 mod convert;
 mod demo;
 mod eat;
+mod fair;
 mod fill;
 mod fit;
 mod info;
@@ -41,8 +42,19 @@ enum Command {
     Fit(fit::FitArgs),
     /// Reruns a table or example of the Kouibia–Pasadas papers next to the paper's values.
     Paper(paper::PaperArgs),
+    /// Kiciak's shape optimization of a Catmull–Clark control mesh (mean curvature evened out).
+    Fair(fair::FairArgs),
+    /// Generates example meshes.
+    #[command(subcommand)]
+    Gen(Generate),
     /// Runs surfkit on its built-in example and writes the results to a folder.
     Demo(demo::DemoArgs),
+}
+
+#[derive(Subcommand, Debug)]
+enum Generate {
+    /// A junction of tubes like Kiciak's figures 9–11 (quads, genus 0, one loop per tube end).
+    Tubes(fair::TubesArgs),
 }
 
 /// Runs the command line; errors are printed as one line naming the file and the problem.
@@ -58,6 +70,8 @@ pub fn main() -> ExitCode {
         Command::Fill(a) => fill::run(a).map(|()| ExitCode::SUCCESS),
         Command::Fit(a) => fit::run(a).map(|()| ExitCode::SUCCESS),
         Command::Paper(a) => paper::run(a).map(|()| ExitCode::SUCCESS),
+        Command::Fair(a) => fair::run(a).map(|()| ExitCode::SUCCESS),
+        Command::Gen(Generate::Tubes(a)) => fair::run_tubes(a).map(|()| ExitCode::SUCCESS),
     };
     match result {
         Ok(code) => code,

@@ -1,0 +1,215 @@
+//! The surface representation (paper eq. 1, p = Σ pᵢ φᵢ) as the optimizer sees it: at each
+//! quadrature point, the nine partial derivatives of orders 1–3 are fixed linear
+//! combinations of the control vertices. The optimizer only needs these rows, so Kiciak's
+//! own (9, 9) special elements (§3) can replace the B-spline end caps by implementing
+//! [`Representation`] without touching the functional or the optimizer.
+
+use crate::error::{Error, Result};
+use crate::fair::quadrature::gauss_legendre;
+use crate::mesh::PolygonMesh;
+use crate::subdiv::{cubic_basis, limit_surface, PatchOptions, PatchSurface, SubdivOptions};
+
+/// Number of derivatives at a quadrature point, in the order
+/// `p_u, p_v, p_uu, p_uv, p_vv, p_uuu, p_uuv, p_uvv, p_vvv`.
+pub const DERIVATIVES: usize = 9;
+
+/// One quadrature point: weights of the two terms of F (eq. 4) and the sparse rows of the
+/// linear map from control vertices to the nine derivatives.
+#[derive(Debug, Clone, PartialEq)]
+pub struct QuadraturePoint {
+    /// Quadrature weight × element area in the parameters, for S (eq. 3); 0 where S is not
+    /// integrated.
+    pub weight_s: f64,
+    /// Quadrature weight × element area × Cᵢ, for Q (eq. 5).
+    pub weight_q: f64,
+    /// Control vertices with a nonzero coefficient, sorted, distinct.
+    pub vertices: Vec<u32>,
+    /// `coefficients[k][d]`: coefficient of `vertices[k]` in derivative `d`.
+    pub coefficients: Vec<[f64; DERIVATIVES]>,
+}
+
+/// Control vertices → per-quadrature-point derivatives as fixed linear maps.
+pub trait Representation {
+    /// Number of control vertices.
+    fn vertex_count(&self) -> usize;
+    /// The quadrature points of all elements.
+    fn points(&self) -> &[QuadraturePoint];
+    /// Number of elements |E| (for c = |E|² / D⁴, §4).
+    fn element_count(&self) -> usize;
+}
+
+/// How the last-level end caps around extraordinary vertices enter S.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EndCaps {
+    /// End caps are left out of S (they remain in Q). The Catmull–Clark limit has unbounded
+    /// or degenerate curvature at an extraordinary vertex, so ∇H there is no property of
+    /// the shape; the B-spline end caps only approximate the limit, and they cover a
+    /// neighbourhood whose parameter area is 4^(−isolation) of the faces around the vertex,
+    /// which vanishes as the isolation level grows.
+    #[default]
+    ExcludeFromS,
+    /// End caps are integrated in S like any other patch.
+    Include,
+}
+
+/// Options of [`PatchRepresentation::new`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct RepresentationOptions {
+    /// Gauss–Legendre nodes per direction per patch.
+    pub nodes: usize,
+    /// OpenSubdiv's feature-adaptive isolation level.
+    pub isolation: u32,
+    /// Cᵢ of ordinary elements (eq. 5).
+    pub c_ordinary: f64,
+    /// Cᵢ of elements with a special vertex (smaller values lessen the regularization's
+    /// effect near special vertices, §4).
+    pub c_special: f64,
+    pub end_caps: EndCaps,
+}
+
+impl Default for RepresentationOptions {
+    fn default() -> Self {
+        RepresentationOptions {
+            nodes: 4,
+            isolation: 4,
+            c_ordinary: 1.0,
+            c_special: 1.0,
+            end_caps: EndCaps::ExcludeFromS,
+        }
+    }
+}
+
+/// The Catmull–Clark limit surface as OpenSubdiv's bicubic B-spline patches (B-spline end
+/// caps). Elements are the internal quads (all corners off the boundary): as in the paper,
+/// only they carry the surface; boundary faces depend only on fixed vertices.
+pub struct PatchRepresentation {
+    vertex_count: usize,
+    element_count: usize,
+    points: Vec<QuadraturePoint>,
+}
+
+impl PatchRepresentation {
+    /// Builds the quadrature rows of `mesh`'s limit surface.
+    ///
+    /// Derivatives are taken with respect to each face's own (u, v) ∈ [0, 1]², so an
+    /// ordinary face is the paper's unit-square element; a sub-patch of size h contributes
+    /// area h² and derivatives scaled by h^(−order).
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for a bad option (nodes, isolation, Cᵢ ≤ 0) or a face
+    /// that is not a quad; errors of [`limit_surface`].
+    pub fn new(
+        mesh: &PolygonMesh,
+        boundary: &[bool],
+        special: &[bool],
+        options: &RepresentationOptions,
+    ) -> Result<Self> {
+        let c_ok = |c: f64| c.is_finite() && c > 0.0;
+        if !c_ok(options.c_ordinary) || !c_ok(options.c_special) {
+            return Err(Error::InvalidInput(format!(
+                "Cᵢ must be positive and finite (ordinary {}, special {})",
+                options.c_ordinary, options.c_special
+            )));
+        }
+        if boundary.len() != mesh.vertex_count() || special.len() != mesh.vertex_count() {
+            return Err(Error::InvalidInput(
+                "boundary and special flags must have one entry per vertex".into(),
+            ));
+        }
+        if let Some(f) = mesh.faces().position(|f| f.len() != 4) {
+            return Err(Error::InvalidInput(format!(
+                "face {f} is not a quad; refine first (fair::prepare)"
+            )));
+        }
+        let rule = gauss_legendre(options.nodes)?;
+        let surface: PatchSurface = limit_surface(
+            mesh,
+            &SubdivOptions::default(),
+            &PatchOptions {
+                max_isolation: options.isolation,
+            },
+        )?;
+        let internal: Vec<bool> = mesh
+            .faces()
+            .map(|f| f.iter().all(|&v| !boundary[v as usize]))
+            .collect();
+        let with_special: Vec<bool> = mesh
+            .faces()
+            .map(|f| f.iter().any(|&v| special[v as usize]))
+            .collect();
+        let element_count = internal.iter().filter(|&&b| b).count();
+        let bases: Vec<[[f64; 4]; 4]> = rule.iter().map(|&(x, _)| cubic_basis(x)).collect();
+        let mut points = Vec::new();
+        for (p, patch) in surface.patches().iter().enumerate() {
+            let f = patch.base_face as usize;
+            if !internal[f] {
+                continue;
+            }
+            let rows = surface.patch_weights(p)?;
+            let mut vertices: Vec<u32> = rows.iter().flatten().map(|&(v, _)| v).collect();
+            vertices.sort_unstable();
+            vertices.dedup();
+            let h = patch.size;
+            let c = if with_special[f] {
+                options.c_special
+            } else {
+                options.c_ordinary
+            };
+            let in_s = patch.regular || options.end_caps == EndCaps::Include;
+            let orders: [(usize, usize); DERIVATIVES] = [
+                (1, 0),
+                (0, 1),
+                (2, 0),
+                (1, 1),
+                (0, 2),
+                (3, 0),
+                (2, 1),
+                (1, 2),
+                (0, 3),
+            ];
+            for (a, &(_, wu)) in rule.iter().enumerate() {
+                for (b, &(_, wv)) in rule.iter().enumerate() {
+                    let (bu, bv) = (&bases[a], &bases[b]);
+                    let mut coefficients = vec![[0.0; DERIVATIVES]; vertices.len()];
+                    for (k, row) in rows.iter().enumerate() {
+                        let (i, j) = (k / 4, k % 4);
+                        let mut d = [0.0; DERIVATIVES];
+                        for (slot, &(ou, ov)) in orders.iter().enumerate() {
+                            d[slot] = bu[ou][j] * bv[ov][i] * h.powi(-((ou + ov) as i32));
+                        }
+                        for &(v, w) in row {
+                            let at = vertices.binary_search(&v).unwrap_or(0);
+                            for s in 0..DERIVATIVES {
+                                coefficients[at][s] += w * d[s];
+                            }
+                        }
+                    }
+                    let area = wu * wv * h * h;
+                    points.push(QuadraturePoint {
+                        weight_s: if in_s { area } else { 0.0 },
+                        weight_q: area * c,
+                        vertices: vertices.clone(),
+                        coefficients,
+                    });
+                }
+            }
+        }
+        Ok(PatchRepresentation {
+            vertex_count: mesh.vertex_count(),
+            element_count,
+            points,
+        })
+    }
+}
+
+impl Representation for PatchRepresentation {
+    fn vertex_count(&self) -> usize {
+        self.vertex_count
+    }
+    fn points(&self) -> &[QuadraturePoint] {
+        &self.points
+    }
+    fn element_count(&self) -> usize {
+        self.element_count
+    }
+}

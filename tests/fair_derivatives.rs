@@ -1,0 +1,126 @@
+//! Gradient and Hessian of F (Kiciak eq. 4–6) against central finite differences of F on
+//! small meshes: a regular grid patch and discs around special vertices of valence 3 and 5.
+
+use surfkit::assert_near;
+use surfkit::fair::{
+    fixed_vertices, sector_disc, Functional, MeshTopology, PatchRepresentation,
+    RepresentationOptions,
+};
+use surfkit::mesh::PolygonMesh;
+use surfkit::tolerance::FINITE_DIFFERENCE;
+
+/// Deterministic pseudo-random offsets in [−0.5, 0.5).
+fn jitter(k: usize) -> f64 {
+    let x = (k as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    let x = (x ^ (x >> 29)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    ((x >> 11) as f64) / ((1u64 << 53) as f64) - 0.5
+}
+
+fn perturbed(mut mesh: PolygonMesh, amount: f64) -> PolygonMesh {
+    for (v, p) in mesh.positions.iter_mut().enumerate() {
+        for (a, c) in p.iter_mut().enumerate() {
+            *c += amount * jitter(3 * v + a);
+        }
+    }
+    mesh
+}
+
+fn setup(mesh: &PolygonMesh) -> (PatchRepresentation, Vec<bool>) {
+    let topo = MeshTopology::new(mesh).unwrap();
+    let fixed = fixed_vertices(&topo, 3, &[]).unwrap();
+    let mut special = vec![false; mesh.vertex_count()];
+    for v in topo.special_vertices() {
+        special[v as usize] = true;
+    }
+    let options = RepresentationOptions {
+        isolation: 2,
+        ..RepresentationOptions::default()
+    };
+    let rep = PatchRepresentation::new(mesh, &topo.boundary, &special, &options).unwrap();
+    (rep, fixed)
+}
+
+/// Positions with free variable `k` (free vertex k / 3, coordinate k % 3) moved by `h`.
+fn shifted(mesh: &PolygonMesh, free: &[u32], k: usize, h: f64) -> Vec<[f64; 3]> {
+    let mut p = mesh.positions.clone();
+    let v = free.iter().position(|&i| i as usize == k / 3).unwrap();
+    p[v][k % 3] += h;
+    p
+}
+
+const STEP: f64 = 1e-5;
+
+fn check_gradient_and_hessian(mesh: &PolygonMesh, hessian_columns: usize) {
+    let (rep, fixed) = setup(mesh);
+    let functional = Functional::new(&rep, &fixed, 0.7);
+    let free = functional.free_index().to_vec();
+    assert!(functional.free_count() > 0);
+    let (terms, g, h) = functional.hessian(&mesh.positions);
+    let (terms2, g2) = functional.gradient(&mesh.positions);
+    assert_near!(
+        terms.f,
+        functional.value(&mesh.positions).f,
+        FINITE_DIFFERENCE
+    );
+    assert_near!(terms.f, terms2.f, FINITE_DIFFERENCE);
+    assert!(terms.s > 0.0 && terms.q > 0.0);
+    let gscale = g.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    for k in 0..g.len() {
+        assert_near!(g[k] / gscale, g2[k] / gscale, FINITE_DIFFERENCE);
+        let fp = functional.value(&shifted(mesh, &free, k, STEP)).f;
+        let fm = functional.value(&shifted(mesh, &free, k, -STEP)).f;
+        let fd = (fp - fm) / (2.0 * STEP);
+        assert_near!(
+            fd / gscale,
+            g[k] / gscale,
+            FINITE_DIFFERENCE,
+            "gradient entry {k}"
+        );
+    }
+    // Dense Hessian from the upper-triangle blocks.
+    let n = g.len();
+    let mut dense = vec![0.0; n * n];
+    for (&(i, j), b) in h.blocks.iter().zip(&h.values) {
+        for (a, row) in b.iter().enumerate() {
+            for (c, &x) in row.iter().enumerate() {
+                let (r, s) = (3 * i as usize + a, 3 * j as usize + c);
+                dense[r * n + s] = x;
+                dense[s * n + r] = x;
+            }
+        }
+    }
+    let hscale = dense.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let stride = (n / hessian_columns).max(1);
+    for k in (0..n).step_by(stride) {
+        let (_, gp) = functional.gradient(&shifted(mesh, &free, k, STEP));
+        let (_, gm) = functional.gradient(&shifted(mesh, &free, k, -STEP));
+        for r in 0..n {
+            let fd = (gp[r] - gm[r]) / (2.0 * STEP);
+            assert_near!(
+                fd / hscale,
+                dense[r * n + k] / hscale,
+                FINITE_DIFFERENCE,
+                "Hessian entry ({r}, {k})"
+            );
+        }
+    }
+}
+
+#[test]
+fn fair_derivatives_regular_grid() {
+    // Valence 4 everywhere inside: a 4-sector disc is a regular grid.
+    let mesh = perturbed(sector_disc(4, 4).unwrap(), 0.1);
+    check_gradient_and_hessian(&mesh, 12);
+}
+
+#[test]
+fn fair_derivatives_valence_5() {
+    let mesh = perturbed(sector_disc(5, 4).unwrap(), 0.1);
+    check_gradient_and_hessian(&mesh, 12);
+}
+
+#[test]
+fn fair_derivatives_valence_3() {
+    let mesh = perturbed(sector_disc(3, 4).unwrap(), 0.1);
+    check_gradient_and_hessian(&mesh, 12);
+}

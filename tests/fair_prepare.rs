@@ -1,0 +1,88 @@
+//! Preparation (Kiciak §2, §4): refinement until the paper's conditions hold with χ
+//! unchanged, fixed vertices, and the errors for closed meshes with nothing fixed.
+
+use surfkit::error::Error;
+use surfkit::fair::{
+    condition_violation, fixed_vertices, optimize, prepare, FairOptions, MeshTopology,
+};
+use surfkit::mesh::PolygonMesh;
+
+fn cube() -> PolygonMesh {
+    let p: Vec<[f64; 3]> = (0..8)
+        .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
+        .collect();
+    PolygonMesh::from_polygons(
+        p,
+        &[
+            [0u32, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ],
+    )
+}
+
+#[test]
+fn fair_prepare_cube_needs_one_level_and_keeps_chi() {
+    let mesh = cube();
+    let topo = MeshTopology::new(&mesh).unwrap();
+    assert_eq!(topo.euler_characteristic(), 2);
+    assert!(condition_violation(&mesh, &topo).is_some());
+    let (refined, levels) = prepare(&mesh, 3).unwrap();
+    assert_eq!(levels, 1);
+    // V + E + F of the cube.
+    assert_eq!(refined.vertex_count(), 8 + 12 + 6);
+    let t = MeshTopology::new(&refined).unwrap();
+    assert_eq!(t.euler_characteristic(), 2);
+    assert!(condition_violation(&refined, &t).is_none());
+}
+
+#[test]
+fn fair_prepare_triangles_become_quads() {
+    // A square pyramid without its base: four triangles, one boundary loop, χ = 1.
+    let mesh = PolygonMesh::from_polygons(
+        vec![
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, -1.0, 0.0],
+        ],
+        &[[0u32, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]],
+    );
+    let (refined, levels) = prepare(&mesh, 3).unwrap();
+    assert!(levels >= 1);
+    assert!(refined.faces().all(|f| f.len() == 4));
+    assert_eq!(
+        MeshTopology::new(&refined).unwrap().euler_characteristic(),
+        1
+    );
+}
+
+#[test]
+fn fair_prepare_too_few_levels_is_a_topology_error() {
+    assert!(matches!(prepare(&cube(), 0), Err(Error::Topology(_))));
+}
+
+#[test]
+fn fair_closed_mesh_with_nothing_fixed_is_an_error() {
+    let (refined, _) = prepare(&cube(), 2).unwrap();
+    let topo = MeshTopology::new(&refined).unwrap();
+    match fixed_vertices(&topo, 3, &[]) {
+        Err(Error::InvalidInput(m)) => assert!(m.contains("closed"), "{m}"),
+        other => panic!("expected an InvalidInput error, got {other:?}"),
+    }
+    assert!(matches!(
+        optimize(&cube(), &FairOptions::default()),
+        Err(Error::InvalidInput(_))
+    ));
+    // With a vertex given, the closed mesh has something to hold.
+    let fixed = fixed_vertices(&topo, 3, &[0]).unwrap();
+    assert_eq!(fixed.iter().filter(|&&f| f).count(), 1);
+    assert!(matches!(
+        fixed_vertices(&topo, 3, &[10_000]),
+        Err(Error::InvalidInput(_))
+    ));
+}
