@@ -138,44 +138,14 @@ pub fn run(args: &FillArgs) -> Result<()> {
             FillVariant::Paper
         },
     };
-    let is_csv = args
-        .input
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
-    let data = if is_csv {
-        read_csv(&args.input)?
-    } else {
-        from_mesh(&crate::mesh::io::read(&args.input)?)?
-    };
-    let data = match &args.offset {
-        Some(spec) => {
-            let parts: Vec<&str> = spec.split(';').collect();
-            if parts.len() != 3 {
-                return Err(Error::InvalidInput(format!(
-                    "--offset {spec:?}: expected three expressions d1;d2;d3"
-                )));
-            }
-            let d: Vec<Expr> = parts
-                .iter()
-                .map(|p| Expr::parse(p))
-                .collect::<Result<_>>()?;
-            offset_data(&data, &setup, &|u, v| {
-                Ok([d[0].eval(u, v)?, d[1].eval(u, v)?, d[2].eval(u, v)?])
-            })?
-        }
-        None => data,
-    };
-    let out = fit_and_fill(&data, &setup)?;
-    if let Some(path) = &args.output {
-        let mesh = out.mesh(&data, args.resolution)?;
-        crate::mesh::io::write(path, &mesh, &crate::mesh::io::WriteOptions::default())?;
-    }
-    if let Some(path) = &args.coefficients {
-        let text = serde_json::to_string(&out.coefficients())
-            .map_err(|e| Error::InvalidInput(format!("JSON: {e}")))?;
-        crate::mesh::io::write_atomically(path, |w| w.write_all(text.as_bytes()))?;
-    }
+    let out = load_and_solve(
+        &args.input,
+        args.offset.as_deref(),
+        &setup,
+        args.output.as_deref(),
+        args.coefficients.as_deref(),
+        args.resolution,
+    )?;
     let s = &out.summary;
     if args.json {
         println!(
@@ -215,4 +185,54 @@ pub fn run(args: &FillArgs) -> Result<()> {
         println!("  wrote {}", p.display());
     }
     Ok(())
+}
+
+/// What `fit` and `fill` share: reads the data (CSV or mesh), applies the offset, solves,
+/// and writes the sampled mesh and the coefficients when asked.
+pub(super) fn load_and_solve(
+    input: &std::path::Path,
+    offset: Option<&str>,
+    setup: &FitSetup,
+    output: Option<&std::path::Path>,
+    coefficients: Option<&std::path::Path>,
+    resolution: usize,
+) -> Result<crate::fit::pipeline::FitOutcome> {
+    let is_csv = input
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+    let data = if is_csv {
+        read_csv(input)?
+    } else {
+        from_mesh(&crate::mesh::io::read(input)?)?
+    };
+    let data = match offset {
+        Some(spec) => {
+            let parts: Vec<&str> = spec.split(';').collect();
+            if parts.len() != 3 {
+                return Err(Error::InvalidInput(format!(
+                    "--offset {spec:?}: expected three expressions d1;d2;d3"
+                )));
+            }
+            let d: Vec<Expr> = parts
+                .iter()
+                .map(|p| Expr::parse(p))
+                .collect::<Result<_>>()?;
+            offset_data(&data, setup, &|u, v| {
+                Ok([d[0].eval(u, v)?, d[1].eval(u, v)?, d[2].eval(u, v)?])
+            })?
+        }
+        None => data,
+    };
+    let out = fit_and_fill(&data, setup)?;
+    if let Some(path) = output {
+        let mesh = out.mesh(&data, resolution)?;
+        crate::mesh::io::write(path, &mesh, &crate::mesh::io::WriteOptions::default())?;
+    }
+    if let Some(path) = coefficients {
+        let text = serde_json::to_string(&out.coefficients())
+            .map_err(|e| Error::InvalidInput(format!("JSON: {e}")))?;
+        crate::mesh::io::write_atomically(path, |w| w.write_all(text.as_bytes()))?;
+    }
+    Ok(out)
 }

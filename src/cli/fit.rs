@@ -4,10 +4,8 @@
 
 use std::path::PathBuf;
 
-use crate::fit::data::{from_mesh, read_csv};
-use crate::fit::expr::Expr;
 use crate::fit::fill::FillVariant;
-use crate::fit::pipeline::{fit_and_fill, offset_data, FitSetup, HoleSource, SpaceKind};
+use crate::fit::pipeline::{FitSetup, HoleSource, SpaceKind};
 use crate::{Error, Result};
 
 /// The spline space.
@@ -80,44 +78,14 @@ pub fn run(args: &FitArgs) -> Result<()> {
         hole: HoleSource::None,
         variant: FillVariant::Paper,
     };
-    let is_csv = args
-        .input
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
-    let data = if is_csv {
-        read_csv(&args.input)?
-    } else {
-        from_mesh(&crate::mesh::io::read(&args.input)?)?
-    };
-    let data = match &args.offset {
-        Some(spec) => {
-            let parts: Vec<&str> = spec.split(';').collect();
-            if parts.len() != 3 {
-                return Err(Error::InvalidInput(format!(
-                    "--offset {spec:?}: expected three expressions d1;d2;d3"
-                )));
-            }
-            let d: Vec<Expr> = parts
-                .iter()
-                .map(|p| Expr::parse(p))
-                .collect::<Result<_>>()?;
-            offset_data(&data, &setup, &|u, v| {
-                Ok([d[0].eval(u, v)?, d[1].eval(u, v)?, d[2].eval(u, v)?])
-            })?
-        }
-        None => data,
-    };
-    let out = fit_and_fill(&data, &setup)?;
-    if let Some(path) = &args.output {
-        let mesh = out.mesh(&data, args.resolution)?;
-        crate::mesh::io::write(path, &mesh, &crate::mesh::io::WriteOptions::default())?;
-    }
-    if let Some(path) = &args.coefficients {
-        let text = serde_json::to_string(&out.coefficients())
-            .map_err(|e| Error::InvalidInput(format!("JSON: {e}")))?;
-        crate::mesh::io::write_atomically(path, |w| w.write_all(text.as_bytes()))?;
-    }
+    let out = super::fill::load_and_solve(
+        &args.input,
+        args.offset.as_deref(),
+        &setup,
+        args.output.as_deref(),
+        args.coefficients.as_deref(),
+        args.resolution,
+    )?;
     let s = &out.summary;
     if args.json {
         let text =
