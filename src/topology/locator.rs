@@ -228,8 +228,43 @@ pub fn locate(
     facet_ids: &[u32],
     options: &LocatorOptions,
 ) -> Vec<Flaw> {
+    let geometry = GeometryFacts::of(registry, positions, options);
+    locate_with(registry, structure, positions, facet_ids, &geometry)
+}
+
+/// What the locator needs from the geometry alone (not from the structure), so that it can
+/// be computed while the structure is being built.
+pub struct GeometryFacts {
+    pub median_edge: f64,
+    /// (vertex, earlier coincident vertex) pairs.
+    pub coincident: Vec<(u32, u32)>,
+    pub crack_tolerance: f64,
+}
+
+impl GeometryFacts {
+    pub fn of(registry: &EatRegistry, positions: &[[f64; 3]], options: &LocatorOptions) -> Self {
+        GeometryFacts {
+            median_edge: median_edge_length(registry, positions),
+            coincident: coincident_pairs(registry, positions, options.weld_tolerance),
+            crack_tolerance: options.crack_tolerance,
+        }
+    }
+}
+
+/// [`locate`] with the geometric facts already computed.
+pub fn locate_with(
+    registry: &EatRegistry,
+    structure: &Structure,
+    positions: &[[f64; 3]],
+    facet_ids: &[u32],
+    geometry: &GeometryFacts,
+) -> Vec<Flaw> {
+    let options = &LocatorOptions {
+        weld_tolerance: 0.0,
+        crack_tolerance: geometry.crack_tolerance,
+    };
     let mut flaws = Vec::new();
-    let median = median_edge_length(registry, positions);
+    let median = geometry.median_edge;
     let (offsets, corners) = registry.facet_arrays();
     let facet_id = |f: u32| facet_ids.get(f as usize).copied().unwrap_or(f);
     let pos = |v: u32| positions[v as usize];
@@ -350,7 +385,7 @@ pub fn locate(
             });
         }
     }
-    for (v, u) in coincident_pairs(registry, positions, options.weld_tolerance) {
+    for &(v, u) in &geometry.coincident {
         flaws.push(Flaw {
             kind: FlawKind::CoincidentVertices,
             vertices: vec![v, u],

@@ -22,7 +22,7 @@ mod structure;
 mod target;
 
 pub use flaw::{Flaw, FlawKind, LoopShape};
-pub use locator::{boundary_walks, LocatorOptions};
+pub use locator::{boundary_walks, locate, LocatorOptions};
 pub use mark::{flaw_color, mark_flaws, SOUND};
 pub use progressive::{Checkpoint, FacetDetail, ModelCompanion};
 pub use registry::{EatRegistry, EdgeItem, FacetRegistration, VertexItem};

@@ -3,7 +3,7 @@
 //! half-edge structure of the accepted facets, per-component topology and every flaw.
 
 use super::flaw::{Flaw, FlawKind};
-use super::locator::{locate, LocatorOptions};
+use super::locator::{locate_with, GeometryFacts, LocatorOptions};
 use super::progressive::{Checkpoint, ModelCompanion};
 use super::statistics::EatStatistics;
 use super::structure::Structure;
@@ -155,15 +155,13 @@ pub fn scan(mesh: &PolygonMesh, options: &EatOptions) -> Result<EatReport> {
         check(&mut companion, f + 1, &mut checkpoints);
     }
     let registry = companion.registry();
-    let structure = Structure::of(registry);
-    let ids: Vec<u32> = (0..faces as u32).collect();
-    let flaws = locate(
-        registry,
-        &structure,
-        &mesh.positions,
-        &ids,
-        &options.locator,
+    // The structure and the purely geometric facts are independent: build them side by side.
+    let (structure, geometry) = rayon::join(
+        || Structure::of(registry),
+        || GeometryFacts::of(registry, &mesh.positions, &options.locator),
     );
+    let ids: Vec<u32> = (0..faces as u32).collect();
+    let flaws = locate_with(registry, &structure, &mesh.positions, &ids, &geometry);
     let counts = counts(mesh, registry, &structure, &flaws);
     let components = component_topology(registry, &structure, &flaws);
     let halfedge = if options.halfedge {

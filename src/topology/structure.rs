@@ -107,99 +107,25 @@ impl Structure {
         }
         drop(fill);
 
-        // Components: facets joined through shared edges.
-        let mut facet_sets = DisjointSets::new(facet_count);
-        // Fans: corners at the same vertex joined through a shared edge at that vertex.
-        let mut corner_sets = DisjointSets::new(corners.len());
-        let next_corner = |k: u32| -> u32 {
-            let f = corner_facet[k as usize] as usize;
-            let (start, end) = (offsets[f], offsets[f + 1]);
-            if k + 1 == end {
-                start
-            } else {
-                k + 1
-            }
+        let layout = Layout {
+            offsets,
+            corners,
+            corner_facet: &corner_facet,
+            side_offsets: &side_offsets,
+            sides: &sides,
         };
-        for e in 0..edges.len() {
-            let packed = &sides[side_offsets[e] as usize..side_offsets[e + 1] as usize];
-            let Some(&first) = packed.first() else {
-                continue;
-            };
-            let first = unpack(first, &corner_facet);
-            let (fa, fb) = (first.corner, next_corner(first.corner));
-            let (first_a, first_b) = if first.forward { (fa, fb) } else { (fb, fa) };
-            for side in packed[1..].iter().map(|&p| unpack(p, &corner_facet)) {
-                facet_sets.union(first.facet, side.facet);
-                let (ka, kb) = (side.corner, next_corner(side.corner));
-                let (at_a, at_b) = if side.forward { (ka, kb) } else { (kb, ka) };
-                corner_sets.union(first_a, at_a);
-                corner_sets.union(first_b, at_b);
-            }
-        }
-        let mut facet_component = vec![NONE; facet_count];
-        let mut label = vec![NONE; facet_count];
-        let mut component_count = 0;
-        for (f, component) in facet_component.iter_mut().enumerate() {
-            let r = facet_sets.find(f as u32) as usize;
-            if label[r] == NONE {
-                label[r] = component_count;
-                component_count += 1;
-            }
-            *component = label[r];
-        }
-
-        // Fans per vertex: count distinct corner roots.
-        let max_vertex = corners.iter().copied().max().map_or(0, |m| m as usize + 1);
-        let corner_fan = corner_sets.into_roots();
-        let mut first_root = vec![NONE; max_vertex];
-        let mut fan_roots: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
-        for (k, &v) in corners.iter().enumerate() {
-            let root = corner_fan[k];
-            let first = &mut first_root[v as usize];
-            if *first == NONE {
-                *first = root;
-            } else if *first != root {
-                let roots = fan_roots.entry(v).or_insert_with(|| vec![*first]);
-                if !roots.contains(&root) {
-                    roots.push(root);
-                }
-            }
-        }
-        let (non_manifold_vertices, fans) = fan_roots
-            .into_iter()
-            .map(|(v, r)| (v, r.len() as u32))
-            .unzip();
-
-        // Boundary loops: pieces of the graph of edges with exactly one side.
-        let mut vertex_sets = DisjointSets::new(max_vertex);
-        for e in edges.iter().filter(|e| e.ec == 1) {
-            vertex_sets.union(e.a, e.b);
-        }
-        let mut loop_label = vec![NONE; max_vertex];
-        let mut boundary_loop_count = 0;
-        let edge_loop = edges
-            .iter()
-            .map(|e| {
-                if e.ec != 1 {
-                    return NONE;
-                }
-                let r = vertex_sets.find(e.a) as usize;
-                if loop_label[r] == NONE {
-                    loop_label[r] = boundary_loop_count;
-                    boundary_loop_count += 1;
-                }
-                loop_label[r]
-            })
-            .collect();
-
-        let component_orientable = orientability(
-            facet_count,
-            &facet_component,
-            component_count,
-            &side_offsets,
-            &sides,
-            &corner_facet,
+        // Fans (per corner) and components (per facet) are independent: side by side.
+        let ((corner_fan, non_manifold_vertices, fans), components) = rayon::join(
+            || fans_of(&layout, edges.len()),
+            || components_of(&layout, edges, facet_count),
         );
+        let (
+            facet_component,
+            component_count,
+            edge_loop,
+            boundary_loop_count,
+            component_orientable,
+        ) = components;
 
         Structure {
             side_offsets,
@@ -215,6 +141,148 @@ impl Structure {
             component_orientable,
         }
     }
+}
+
+/// The arrays both halves of [`Structure::of`] read.
+struct Layout<'a> {
+    offsets: &'a [u32],
+    corners: &'a [u32],
+    corner_facet: &'a [u32],
+    side_offsets: &'a [u32],
+    sides: &'a [u32],
+}
+
+impl Layout<'_> {
+    /// The corner after `k` in its facet.
+    fn next_corner(&self, k: u32) -> u32 {
+        let f = self.corner_facet[k as usize] as usize;
+        if k + 1 == self.offsets[f + 1] {
+            self.offsets[f]
+        } else {
+            k + 1
+        }
+    }
+
+    fn sides_of(&self, e: usize) -> impl Iterator<Item = EdgeSide> + '_ {
+        self.sides[self.side_offsets[e] as usize..self.side_offsets[e + 1] as usize]
+            .iter()
+            .map(|&p| unpack(p, self.corner_facet))
+    }
+}
+
+/// Fans: corners at the same vertex joined through a shared edge at that vertex. Returns
+/// each corner's fan (a representative corner) and the vertices with more than one fan,
+/// with their fan counts.
+fn fans_of(layout: &Layout, edge_count: usize) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+    let corners = layout.corners;
+    let mut corner_sets = DisjointSets::new(corners.len());
+    for e in 0..edge_count {
+        let mut sides = layout.sides_of(e);
+        let Some(first) = sides.next() else {
+            continue;
+        };
+        let (fa, fb) = (first.corner, layout.next_corner(first.corner));
+        let (first_a, first_b) = if first.forward { (fa, fb) } else { (fb, fa) };
+        for side in sides {
+            let (ka, kb) = (side.corner, layout.next_corner(side.corner));
+            let (at_a, at_b) = if side.forward { (ka, kb) } else { (kb, ka) };
+            corner_sets.union(first_a, at_a);
+            corner_sets.union(first_b, at_b);
+        }
+    }
+    let max_vertex = corners.iter().copied().max().map_or(0, |m| m as usize + 1);
+    let corner_fan = corner_sets.into_roots();
+    let mut first_root = vec![NONE; max_vertex];
+    let mut fan_roots: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
+    for (k, &v) in corners.iter().enumerate() {
+        let root = corner_fan[k];
+        let first = &mut first_root[v as usize];
+        if *first == NONE {
+            *first = root;
+        } else if *first != root {
+            let roots = fan_roots.entry(v).or_insert_with(|| vec![*first]);
+            if !roots.contains(&root) {
+                roots.push(root);
+            }
+        }
+    }
+    let (non_manifold_vertices, fans) = fan_roots
+        .into_iter()
+        .map(|(v, r)| (v, r.len() as u32))
+        .unzip();
+    (corner_fan, non_manifold_vertices, fans)
+}
+
+/// Components (facets joined through shared edges), boundary loops (pieces of the graph
+/// of one-sided edges) and orientability per component.
+#[allow(clippy::type_complexity)]
+fn components_of(
+    layout: &Layout,
+    edges: &[super::registry::EdgeItem],
+    facet_count: usize,
+) -> (Vec<u32>, u32, Vec<u32>, u32, Vec<Option<bool>>) {
+    let mut facet_sets = DisjointSets::new(facet_count);
+    for e in 0..edges.len() {
+        let mut sides = layout.sides_of(e);
+        let Some(first) = sides.next() else {
+            continue;
+        };
+        for side in sides {
+            facet_sets.union(first.facet, side.facet);
+        }
+    }
+    let mut facet_component = vec![NONE; facet_count];
+    let mut label = vec![NONE; facet_count];
+    let mut component_count = 0;
+    for (f, component) in facet_component.iter_mut().enumerate() {
+        let r = facet_sets.find(f as u32) as usize;
+        if label[r] == NONE {
+            label[r] = component_count;
+            component_count += 1;
+        }
+        *component = label[r];
+    }
+    let max_vertex = layout
+        .corners
+        .iter()
+        .copied()
+        .max()
+        .map_or(0, |m| m as usize + 1);
+    let mut vertex_sets = DisjointSets::new(max_vertex);
+    for e in edges.iter().filter(|e| e.ec == 1) {
+        vertex_sets.union(e.a, e.b);
+    }
+    let mut loop_label = vec![NONE; max_vertex];
+    let mut boundary_loop_count = 0;
+    let edge_loop = edges
+        .iter()
+        .map(|e| {
+            if e.ec != 1 {
+                return NONE;
+            }
+            let r = vertex_sets.find(e.a) as usize;
+            if loop_label[r] == NONE {
+                loop_label[r] = boundary_loop_count;
+                boundary_loop_count += 1;
+            }
+            loop_label[r]
+        })
+        .collect();
+    let component_orientable = orientability(
+        facet_count,
+        &facet_component,
+        component_count,
+        layout.side_offsets,
+        layout.sides,
+        layout.corner_facet,
+    );
+    (
+        facet_component,
+        component_count,
+        edge_loop,
+        boundary_loop_count,
+        component_orientable,
+    )
 }
 
 /// Whether each component's facets can be flipped to agree across every two-sided edge:
