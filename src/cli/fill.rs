@@ -23,9 +23,9 @@ pub enum SpaceArg {
     BfsC1,
 }
 
-/// Arguments of `surfkit fill`.
+/// The arguments `fit` and `fill` share.
 #[derive(clap::Args, Debug, Clone)]
-pub struct FillArgs {
+pub struct SplineArgs {
     /// CSV with lines u,v,x,y,z (a header line is allowed), or a mesh (.ply/.obj/.off):
     /// with UVs, (u, v) are its texture coordinates; without, it is a height field (u, v) = (x, y).
     pub input: PathBuf,
@@ -38,17 +38,6 @@ pub struct FillArgs {
     /// The smoothing parameter ε > 0.
     #[arg(long, default_value_t = 1e-9)]
     pub epsilon: f64,
-    /// A hole component: `ellipse:cx,cy,a,b,level` for a(u−cx)² + b(v−cy)² ≤ level, or
-    /// `polygon:u1,v1,u2,v2,…`. Repeatable.
-    #[arg(long)]
-    pub hole: Vec<String>,
-    /// Take the cells without data as the hole.
-    #[arg(long)]
-    pub hole_from_data: bool,
-    /// Keep σ in the spline space exactly (C¹ across the hole's border) instead of the
-    /// paper's boundary constraints.
-    #[arg(long)]
-    pub exact_c1: bool,
     /// Fit the generalized offset f + d₁e₁ + d₂e₂ + d₃n of the data's surface instead of the
     /// surface: `d1;d2;d3` as expressions in u and v (evalexpr syntax, e.g.
     /// `0.2*math::sin(u-v);0;-0.1`). The frame comes from a first fit of the data.
@@ -66,6 +55,24 @@ pub struct FillArgs {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Arguments of `surfkit fill`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct FillArgs {
+    #[command(flatten)]
+    pub spline: SplineArgs,
+    /// A hole component: `ellipse:cx,cy,a,b,level` for a(u−cx)² + b(v−cy)² ≤ level, or
+    /// `polygon:u1,v1,u2,v2,…`. Repeatable.
+    #[arg(long)]
+    pub hole: Vec<String>,
+    /// Take the cells without data as the hole.
+    #[arg(long)]
+    pub hole_from_data: bool,
+    /// Keep σ in the spline space exactly (C¹ across the hole's border) instead of the
+    /// paper's boundary constraints.
+    #[arg(long)]
+    pub exact_c1: bool,
 }
 
 fn numbers(s: &str, what: &str) -> Result<Vec<f64>> {
@@ -103,13 +110,6 @@ fn hole_shape(spec: &str) -> Result<HoleShape> {
 /// Errors: unreadable or malformed input (named by file and line), bad arguments,
 /// ill-posed problems (too few points, a hole covering everything, ε ≤ 0), write failures.
 pub fn run(args: &FillArgs) -> Result<()> {
-    let cells = numbers(&args.cells, "--cells")?;
-    if cells.len() != 2 || cells.iter().any(|&c| !(c >= 1.0 && c.fract() == 0.0)) {
-        return Err(Error::InvalidInput(format!(
-            "--cells {:?}: expected NU,NV ≥ 1",
-            args.cells
-        )));
-    }
     let hole = if args.hole_from_data {
         HoleSource::CellsWithoutData
     } else if args.hole.is_empty() {
@@ -123,31 +123,15 @@ pub fn run(args: &FillArgs) -> Result<()> {
                 .collect::<Result<_>>()?,
         })
     };
-    let setup = FitSetup {
-        space: match args.space {
-            SpaceArg::Biquadratic => SpaceKind::Biquadratic,
-            SpaceArg::Bicubic => SpaceKind::Bicubic,
-            SpaceArg::BfsC1 => SpaceKind::BfsC1,
-        },
-        cells: [cells[0] as usize, cells[1] as usize],
-        epsilon: args.epsilon,
-        hole,
-        variant: if args.exact_c1 {
-            FillVariant::ExactC1
-        } else {
-            FillVariant::Paper
-        },
+    let variant = if args.exact_c1 {
+        FillVariant::ExactC1
+    } else {
+        FillVariant::Paper
     };
-    let out = load_and_solve(
-        &args.input,
-        args.offset.as_deref(),
-        &setup,
-        args.output.as_deref(),
-        args.coefficients.as_deref(),
-        args.resolution,
-    )?;
+    let setup = setup(&args.spline, hole, variant)?;
+    let out = load_and_solve(&args.spline, &setup)?;
     let s = &out.summary;
-    if args.json {
+    if args.spline.json {
         println!(
             "{}",
             serde_json::to_string(s).map_err(|e| Error::InvalidInput(format!("JSON: {e}")))?
@@ -156,7 +140,7 @@ pub fn run(args: &FillArgs) -> Result<()> {
     }
     println!(
         "{}: {} points, {:?} on {}×{} cells of [{:.4}, {:.4}]×[{:.4}, {:.4}], ε = {:e}",
-        args.input.display(),
+        args.spline.input.display(),
         s.points,
         s.space,
         s.cells[0],
@@ -178,25 +162,52 @@ pub fn run(args: &FillArgs) -> Result<()> {
         ),
         None => println!("  no hole filled"),
     }
-    if let Some(p) = &args.output {
+    if let Some(p) = &args.spline.output {
         println!("  wrote {}", p.display());
     }
-    if let Some(p) = &args.coefficients {
+    if let Some(p) = &args.spline.coefficients {
         println!("  wrote {}", p.display());
     }
     Ok(())
 }
 
+/// The spline setup of `fit` and `fill`: space and cells from the arguments.
+///
+/// Errors: `InvalidInput` for cells that are not two whole numbers ≥ 1.
+pub(super) fn setup(args: &SplineArgs, hole: HoleSource, variant: FillVariant) -> Result<FitSetup> {
+    let cells = numbers(&args.cells, "--cells")?;
+    if cells.len() != 2 || cells.iter().any(|&c| !(c >= 1.0 && c.fract() == 0.0)) {
+        return Err(Error::InvalidInput(format!(
+            "--cells {:?}: expected NU,NV ≥ 1",
+            args.cells
+        )));
+    }
+    Ok(FitSetup {
+        space: match args.space {
+            SpaceArg::Biquadratic => SpaceKind::Biquadratic,
+            SpaceArg::Bicubic => SpaceKind::Bicubic,
+            SpaceArg::BfsC1 => SpaceKind::BfsC1,
+        },
+        cells: [cells[0] as usize, cells[1] as usize],
+        epsilon: args.epsilon,
+        hole,
+        variant,
+    })
+}
+
 /// What `fit` and `fill` share: reads the data (CSV or mesh), applies the offset, solves,
 /// and writes the sampled mesh and the coefficients when asked.
 pub(super) fn load_and_solve(
-    input: &std::path::Path,
-    offset: Option<&str>,
+    args: &SplineArgs,
     setup: &FitSetup,
-    output: Option<&std::path::Path>,
-    coefficients: Option<&std::path::Path>,
-    resolution: usize,
 ) -> Result<crate::fit::pipeline::FitOutcome> {
+    let (input, offset, output, coefficients, resolution) = (
+        args.input.as_path(),
+        args.offset.as_deref(),
+        args.output.as_deref(),
+        args.coefficients.as_deref(),
+        args.resolution,
+    );
     let is_csv = input
         .extension()
         .and_then(|e| e.to_str())
