@@ -2,6 +2,7 @@
 //! frame (e₁, e₂, n) comes from the first derivatives of f.
 
 use crate::error::{Error, Result};
+use crate::mesh::vector::{cross, norm};
 
 /// A parametric surface with its first partial derivatives.
 pub trait ParametricSurface {
@@ -38,18 +39,6 @@ pub struct GeneralizedOffset<S: ParametricSurface> {
     pub surface: S,
     /// d₁, d₂, d₃ as functions of (u, v).
     pub distances: [Distance; 3],
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 impl<S: ParametricSurface> GeneralizedOffset<S> {

@@ -277,30 +277,21 @@ pub fn run(
 ///
 /// Errors: those of [`solve`].
 pub fn figure_meshes(seed: u64) -> Result<Vec<(String, crate::mesh::PolygonMesh)>> {
-    use crate::fit::sample::{keep_faces, sample_mesh};
-    const RES: usize = 120;
     let sol = solve(9, 500, 1e-9, seed, FillVariant::Paper)?;
     let off = offset();
     let grid = sol.space.grid();
     let hole = hole();
-    let distance =
-        |a: [f64; 3], b: [f64; 3]| ((0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>()).sqrt();
-    let exact = |u: f64, v: f64| off.point(u, v);
-    let sigma1 = |u: f64, v: f64| sol.sigma1.spline.eval(&sol.space, u, v, 0, 0);
-    let sigma = |u: f64, v: f64| sol.fill.eval(&sol.space, u, v, 0, 0);
-    let err1 = |u: f64, v: f64| Ok(distance(sigma1(u, v)?, exact(u, v)?));
-    let err = |u: f64, v: f64| Ok(distance(sigma(u, v)?, exact(u, v)?));
-    let outside_hole = |u: f64, v: f64| !hole.contains(grid, u, v);
-    let mut with_holes = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, &exact, None)?;
-    keep_faces(&mut with_holes, RES, &outside_hole);
-    let mut approximated = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, &sigma1, Some(&err1))?;
-    keep_faces(&mut approximated, RES, &outside_hole);
-    let filled = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, &sigma, Some(&err))?;
-    Ok(vec![
-        ("kp2022_offset_with_holes".into(), with_holes),
-        ("kp2022_sigma1_approximation".into(), approximated),
-        ("kp2022_filled".into(), filled),
-    ])
+    crate::fit::sample::hole_figures(
+        [
+            "kp2022_offset_with_holes",
+            "kp2022_sigma1_approximation",
+            "kp2022_filled",
+        ],
+        &|u, v| off.point(u, v),
+        &|u, v| sol.sigma1.spline.eval(&sol.space, u, v, 0, 0),
+        &|u, v| sol.fill.eval(&sol.space, u, v, 0, 0),
+        &|u, v| !hole.contains(grid, u, v),
+    )
 }
 
 /// Table 1 of the 2022 paper: every row run over seeds 0..`seeds`.

@@ -338,25 +338,17 @@ pub fn fill_run(
         }
     }
     let figures = if figures {
-        use super::sample::{keep_faces, sample_mesh};
-        const RES: usize = 120;
-        let distance =
-            |a: [f64; 3], b: [f64; 3]| ((0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>()).sqrt();
-        let exact = |u: f64, v: f64| off.point(u, v);
-        let sigma1 = |u: f64, v: f64| f.sigma1.eval(&f.space, u, v, 0, 0);
-        let err1 = |u: f64, v: f64| Ok(distance(sigma1(u, v)?, exact(u, v)?));
-        let err = |u: f64, v: f64| Ok(distance(sigma(u, v)?, exact(u, v)?));
-        let outside = |u: f64, v: f64| !hole.contains(grid, u, v);
-        let mut with_hole = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, &exact, None)?;
-        keep_faces(&mut with_hole, RES, &outside);
-        let mut approximated = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, &sigma1, Some(&err1))?;
-        keep_faces(&mut approximated, RES, &outside);
-        let filled_mesh = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, &sigma, Some(&err))?;
-        vec![
-            ("kpo2024_offset_with_hole".into(), with_hole),
-            ("kpo2024_sigma1_approximation".into(), approximated),
-            ("kpo2024_shape_preserving_fill".into(), filled_mesh),
-        ]
+        super::sample::hole_figures(
+            [
+                "kpo2024_offset_with_hole",
+                "kpo2024_sigma1_approximation",
+                "kpo2024_shape_preserving_fill",
+            ],
+            &|u, v| off.point(u, v),
+            &|u, v| f.sigma1.eval(&f.space, u, v, 0, 0),
+            &sigma,
+            &|u, v| !hole.contains(grid, u, v),
+        )?
     } else {
         Vec::new()
     };

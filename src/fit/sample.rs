@@ -66,6 +66,37 @@ pub fn keep_faces(mesh: &mut PolygonMesh, res: usize, keep: &dyn Fn(f64, f64) ->
     mesh.face_indices = kept.face_indices;
 }
 
+/// A surface given as (u, v) ↦ point.
+pub type SurfaceOf<'a> = &'a dyn Fn(f64, f64) -> Result<[f64; 3]>;
+
+/// The papers' three figures over [0, 1]²: the exact surface with its hole, the
+/// approximation σ₁ outside the hole, and the filled surface — the last two with the
+/// distance to the exact surface as quality, named by `names`.
+///
+/// Errors: those of the surfaces.
+pub fn hole_figures(
+    names: [&str; 3],
+    exact: SurfaceOf,
+    approximation: SurfaceOf,
+    filled: SurfaceOf,
+    outside_hole: &dyn Fn(f64, f64) -> bool,
+) -> Result<Vec<(String, PolygonMesh)>> {
+    const RES: usize = 120;
+    let distance = crate::mesh::vector::distance;
+    let err1 = |u: f64, v: f64| Ok(distance(approximation(u, v)?, exact(u, v)?));
+    let err = |u: f64, v: f64| Ok(distance(filled(u, v)?, exact(u, v)?));
+    let mut with_hole = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, exact, None)?;
+    keep_faces(&mut with_hole, RES, outside_hole);
+    let mut approximated = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, approximation, Some(&err1))?;
+    keep_faces(&mut approximated, RES, outside_hole);
+    let filled_mesh = sample_mesh([0.0, 1.0], [0.0, 1.0], RES, filled, Some(&err))?;
+    Ok(vec![
+        (names[0].to_string(), with_hole),
+        (names[1].to_string(), approximated),
+        (names[2].to_string(), filled_mesh),
+    ])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,5 +3,6 @@
 
 pub mod io;
 mod polygon_mesh;
+pub mod vector;
 
 pub use polygon_mesh::{CornerUvs, FaceLabels, PolygonMesh, NO_LABEL};

@@ -2,6 +2,7 @@
 //! for people who would rather look than read: a small z-buffered rasterizer with an
 //! oblique view, Lambert shading and a blue–white–red colour map.
 
+use crate::mesh::vector::{cross, dot};
 use std::path::Path;
 
 use crate::error::{Error, Result};
@@ -181,18 +182,6 @@ fn fill_triangle(
             }
         }
     }
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// Writes the picture of [`render_rgb`] as a PNG, atomically.

@@ -2,6 +2,7 @@
 //! (the first and second fundamental forms).
 
 use crate::error::{Error, Result};
+use crate::mesh::vector::{cross, dot};
 use crate::subdiv::Derivatives;
 use crate::tolerance::ROUND_OFF;
 
@@ -17,18 +18,6 @@ pub struct Curvature {
     pub gaussian: f64,
     pub k1: f64,
     pub k2: f64,
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// The unit normal `S_u × S_v / |S_u × S_v|`.

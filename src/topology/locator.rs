@@ -1,6 +1,7 @@
 //! The flaw locator: every flaw of the registered facets, classified and placed.
 //! (Beyond the paper, which only tells that χ is wrong since the last verified point.)
 
+use crate::mesh::vector::distance;
 use foldhash::{HashMap as FxHashMap, HashMapExt};
 
 use super::flaw::{Flaw, FlawKind, LoopShape};
@@ -94,10 +95,6 @@ pub fn median_edge_length(registry: &EatRegistry, positions: &[[f64; 3]]) -> f64
     }
     let mid = lengths.len() / 2;
     f64::from(*lengths.select_nth_unstable_by(mid, f32::total_cmp).1)
-}
-
-fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
 
 fn centroid(points: impl Iterator<Item = [f64; 3]>) -> [f64; 3] {
