@@ -25,7 +25,7 @@ mod tubes;
 pub use cholesky::{Factor, Factorizer};
 pub use disc::sector_disc;
 pub use functional::{BlockHessian, Functional, Terms};
-pub use optimize::{newton, Iteration, NewtonOptions, NewtonReport, StepKind};
+pub use optimize::{newton, newton_observed, Iteration, NewtonOptions, NewtonReport, StepKind};
 pub use prepare::{fixed_vertices, prepare};
 pub use quadrature::{gauss_legendre, MAX_NODES};
 pub use representation::{
@@ -94,6 +94,10 @@ pub struct FairReport {
     pub final_gradient_norm: f64,
 }
 
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
 /// c = |E|² / D⁴ (§4), D the diameter of the surface boundary, taken as that of the
 /// boundary control vertices (`held`), or of the fixed vertices for a closed mesh.
 fn scale_constant(mesh: &PolygonMesh, held: &[bool], elements: usize) -> Result<f64> {
@@ -127,6 +131,20 @@ fn scale_constant(mesh: &PolygonMesh, held: &[bool], elements: usize) -> Result<
 /// fixed; [`Error::Topology`] for a non-manifold mesh or one refinement cannot prepare;
 /// [`Error::Solver`] when the optimizer cannot decrease F; errors of OpenSubdiv.
 pub fn optimize(mesh: &PolygonMesh, options: &FairOptions) -> Result<(PolygonMesh, FairReport)> {
+    optimize_observed(mesh, options, &mut |_, _| {})
+}
+
+/// [`optimize`], calling `observe` after each Newton iteration (warm-start stage
+/// included) with the iteration and the initial gradient norm of its stage, for progress
+/// display.
+///
+/// # Errors
+/// As [`optimize`].
+pub fn optimize_observed(
+    mesh: &PolygonMesh,
+    options: &FairOptions,
+    observe: &mut dyn FnMut(&Iteration, f64),
+) -> Result<(PolygonMesh, FairReport)> {
     let (prepared, refinements) = prepare(mesh, options.max_refinements)?;
     if refinements > 0 && !options.fixed.is_empty() {
         return Err(Error::InvalidInput(
@@ -167,15 +185,21 @@ pub fn optimize(mesh: &PolygonMesh, options: &FairOptions) -> Result<(PolygonMes
                 relative_gradient: options.warm_start_tolerance,
                 ..options.newton.clone()
             };
-            Some(newton(
-                &Functional::new(&coarse, &fixed, c),
+            let coarse_functional = Functional::new(&coarse, &fixed, c);
+            let g0 = norm(&coarse_functional.gradient(&positions).1);
+            Some(newton_observed(
+                &coarse_functional,
                 &mut positions,
                 &newton_options,
+                &mut |it| observe(it, g0),
             )?)
         }
         _ => None,
     };
-    let report = newton(&functional, &mut positions, &options.newton)?;
+    let g0 = norm(&functional.gradient(&positions).1);
+    let report = newton_observed(&functional, &mut positions, &options.newton, &mut |it| {
+        observe(it, g0)
+    })?;
     let (final_terms, g) = functional.gradient(&positions);
     let mut out = prepared.clone();
     out.positions = positions;
@@ -187,11 +211,11 @@ pub fn optimize(mesh: &PolygonMesh, options: &FairOptions) -> Result<(PolygonMes
             free_vertices: functional.free_count(),
             elements: rep.element_count(),
             c,
-            initial_gradient_norm: initial_gradient.iter().map(|x| x * x).sum::<f64>().sqrt(),
+            initial_gradient_norm: norm(&initial_gradient),
             warm_start,
             newton: report,
             final_terms,
-            final_gradient_norm: g.iter().map(|x| x * x).sum::<f64>().sqrt(),
+            final_gradient_norm: norm(&g),
         },
     ))
 }

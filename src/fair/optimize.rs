@@ -95,6 +95,19 @@ pub fn newton<R: Representation>(
     positions: &mut Vec<[f64; 3]>,
     options: &NewtonOptions,
 ) -> Result<NewtonReport> {
+    newton_observed(functional, positions, options, &mut |_| {})
+}
+
+/// [`newton`], calling `observe` after each iteration (for progress display).
+///
+/// # Errors
+/// As [`newton`].
+pub fn newton_observed<R: Representation>(
+    functional: &Functional<'_, R>,
+    positions: &mut Vec<[f64; 3]>,
+    options: &NewtonOptions,
+    observe: &mut dyn FnMut(&Iteration),
+) -> Result<NewtonReport> {
     let free = functional.free_index().to_vec();
     let mut factorizer = Factorizer::new(functional.free_count());
     let (mut terms, mut g) = functional.gradient(positions);
@@ -141,6 +154,7 @@ pub fn newton<R: Representation>(
                     step: StepKind::ReusedNewton,
                     nu: None,
                 });
+                observe(report.iterations.last().expect("just pushed"));
                 if !effective {
                     reusable = None;
                 }
@@ -169,6 +183,7 @@ pub fn newton<R: Representation>(
                     step: StepKind::Newton,
                     nu: None,
                 });
+                observe(report.iterations.last().expect("just pushed"));
                 if effective {
                     reusable = Some(factor);
                 }
@@ -267,6 +282,7 @@ pub fn newton<R: Representation>(
             },
             nu: best_nu.is_finite().then_some(best_nu),
         });
+        observe(report.iterations.last().expect("just pushed"));
     }
     if !report.converged {
         report.converged = norm(&g) <= options.relative_gradient * g0;
