@@ -3,18 +3,23 @@
 //! respect to the free control-vertex coordinates (eq. 6).
 //!
 //! At each quadrature point the integrand is a function of the 27 coordinates of the nine
-//! derivatives; its gradient and Hessian come from automatic differentiation (`num-dual`,
-//! second-order vector duals; ∂H/∂u and ∂H/∂v by a nested first-order dual whose tangent
-//! is the next derivative order) and are chained through the point's fixed linear map
-//! from control vertices (see [`crate::fair::representation`]).
+//! derivatives; its gradient comes by reverse accumulation and its Hessian as the tangents
+//! of that gradient (forward-over-reverse, [`crate::fair::tangent`]), chained through the
+//! point's fixed linear map from control vertices (see [`crate::fair::representation`]).
+//! The quadrature points of one patch share their control vertices: their contributions
+//! are summed in a dense patch matrix before they are scattered into the sparse Hessian,
+//! and patches are spread over the cores (rayon).
 
 use std::collections::HashMap;
+use std::ops::Range;
 
-use nalgebra::SVector;
-use num_dual::{gradient, hessian, Dual, DualNum};
+use num_dual::DualNum;
+use rayon::prelude::*;
 
+use crate::fair::q_density::{q_density, q_density_gradient};
 use crate::fair::representation::{Representation, DERIVATIVES};
-use crate::fair::second_order::{self, Num, Second};
+use crate::fair::s_density::{s_density, s_density_gradient};
+use crate::fair::tangent::Tangent;
 
 const VARS: usize = 3 * DERIVATIVES;
 
@@ -57,106 +62,99 @@ fn mean_curvature<U: DualNum<Primitive = f64> + Copy>(
     (e * nn - f * m * 2.0 + g * l) / (w2 * w2.sqrt() * 2.0)
 }
 
-/// Density of S (eq. 3): ∇H G⁻¹ ∇Hᵀ √det G at a point with derivatives `d`.
-fn s_density<T: DualNum<Primitive = f64> + Copy>(d: &[[T; 3]; DERIVATIVES]) -> T {
-    let [pu, pv, puu, puv, pvv, puuu, puuv, puvv, pvvv] = d;
-    let lift =
-        |a: &[T; 3], b: &[T; 3]| -> [Dual<T>; 3] { std::array::from_fn(|k| Dual::new(a[k], b[k])) };
-    // ∂H/∂u: the tangent of (p_u, p_v, p_uu, p_uv, p_vv) along u.
-    let hu = mean_curvature(
-        &lift(pu, puu),
-        &lift(pv, puv),
-        &lift(puu, puuu),
-        &lift(puv, puuv),
-        &lift(pvv, puvv),
-    )
-    .eps;
-    let hv = mean_curvature(
-        &lift(pu, puv),
-        &lift(pv, pvv),
-        &lift(puu, puuv),
-        &lift(puv, puvv),
-        &lift(pvv, pvvv),
-    )
-    .eps;
-    let (e, f, g) = (dot(pu, pu), dot(pu, pv), dot(pv, pv));
-    let w2 = e * g - f * f;
-    (hu * hu * g - hu * hv * f * 2.0 + hv * hv * e) / w2.sqrt()
-}
-
 /// Number of variables of Q's density: p_u, p_v, ∂Δp/∂u, ∂Δp/∂v.
 const Q_VARS: usize = 12;
 
 /// The derivatives (of the nine) each of Q's four vector variables sums.
 const Q_MAP: [&[usize]; 4] = [&[0], &[1], &[5, 7], &[6, 8]];
 
-/// Density of Q (eq. 5): ‖P ∇Δp‖²_F with Δp = p_uu + p_vv in the element's parameters and
-/// P = I − n nᵀ, from `q = [p_u, p_v, ∂Δp/∂u, ∂Δp/∂v]`.
-fn q_density<T: DualNum<Primitive = f64> + Copy>(q: &[[T; 3]; 4]) -> T {
-    let [pu, pv, lap_u, lap_v] = q;
-    let (e, f, g) = (dot(pu, pu), dot(pu, pv), dot(pv, pv));
-    let w2 = e * g - f * f;
-    let n = cross(pu, pv);
-    let (nu, nv) = (dot(&n, lap_u), dot(&n, lap_v));
-    dot(lap_u, lap_u) + dot(lap_v, lap_v) - (nu * nu + nv * nv) / w2
-}
-
-fn q_vars<T: DualNum<Primitive = f64> + Copy>(d: &[[T; 3]; DERIVATIVES]) -> [[T; 3]; 4] {
+/// Q's variables `[p_u, p_v, ∂Δp/∂u, ∂Δp/∂v]` from the nine derivatives.
+fn q_vars(d: &[[f64; 3]; DERIVATIVES]) -> [[f64; 3]; 4] {
     std::array::from_fn(|i| std::array::from_fn(|a| Q_MAP[i].iter().map(|&k| d[k][a]).sum()))
 }
 
 /// Densities of S and Q at a point with derivatives `d`.
-fn densities<T: DualNum<Primitive = f64> + Copy>(d: &[[T; 3]; DERIVATIVES]) -> (T, T) {
+fn densities(d: &[[f64; 3]; DERIVATIVES]) -> (f64, f64) {
     (s_density(d), q_density(&q_vars(d)))
 }
 
-/// Gradient and Hessian of `ws · S-density + wq · Q-density` with respect to the 27
-/// derivative coordinates; Q's part is differentiated in its own 12 variables and mapped.
+/// Densities of S and Q at a point and the gradient of `ws · S-density + wq · Q-density`
+/// with respect to the 27 derivative coordinates.
+fn point_gradient(x: &[f64; VARS], ws: f64, wq: f64) -> (f64, f64, [f64; VARS]) {
+    let d = unpack(x);
+    let (s, gs) = s_density_gradient(&d);
+    let (q, gq) = q_density_gradient(&q_vars(&d));
+    let mut g = [0.0; VARS];
+    for (i, gi) in g.iter_mut().enumerate() {
+        *gi = ws * gs[i / 3][i % 3];
+    }
+    for (i, di) in Q_MAP.iter().enumerate() {
+        for &d in *di {
+            for a in 0..3 {
+                g[3 * d + a] += wq * gq[i][a];
+            }
+        }
+    }
+    (s, q, g)
+}
+
+/// The 27 × 27 Hessian of one point's weighted density.
+type PointMatrix = [[f64; VARS]; VARS];
+
+/// Densities, gradient and Hessian of `ws · S-density + wq · Q-density` with respect to the
+/// 27 derivative coordinates (`h` is overwritten). Q is differentiated in its own 12
+/// variables and mapped. Forward-over-reverse Hessians are symmetric up to round-off; they
+/// are averaged with their transposes.
 fn point_hessian(
     x: &[f64; VARS],
     ws: f64,
     wq: f64,
-) -> (SVector<f64, VARS>, nalgebra::SMatrix<f64, VARS, VARS>) {
-    let (mut g, mut h) = if ws != 0.0 {
-        let d: [[Second; 3]; DERIVATIVES] = std::array::from_fn(|k| {
-            std::array::from_fn(|a| Second::variable(x[3 * k + a], 3 * k + a))
+    h: &mut PointMatrix,
+) -> (f64, f64, [f64; VARS]) {
+    let mut g = [0.0; VARS];
+    let d = unpack(x);
+    let s = if ws != 0.0 {
+        let dt: [[Tangent<VARS>; 3]; DERIVATIVES] = std::array::from_fn(|k| {
+            std::array::from_fn(|a| Tangent::variable(x[3 * k + a], 3 * k + a))
         });
-        let s = second_order::s_density(&d).scale(ws);
-        (
-            SVector::<f64, VARS>::from(s.g),
-            nalgebra::SMatrix::<f64, VARS, VARS>::from_row_slice(&s.hessian()),
-        )
+        let (s, gs) = s_density_gradient(&dt);
+        for i in 0..VARS {
+            let gi = &gs[i / 3][i % 3];
+            g[i] = ws * gi.re;
+            for j in 0..VARS {
+                h[i][j] = 0.5 * ws * (gi.eps[j] + gs[j / 3][j % 3].eps[i]);
+            }
+        }
+        s.re
     } else {
-        (SVector::zeros(), nalgebra::SMatrix::zeros())
+        for row in h.iter_mut() {
+            *row = [0.0; VARS];
+        }
+        s_density(&d)
     };
-    let q = q_vars(&unpack(x));
-    let qx = SVector::<f64, Q_VARS>::from_fn(|i, _| q[i / 3][i % 3]);
-    let (_, gq, hq) = hessian(
-        |y| {
-            q_density(&std::array::from_fn(|i| {
-                [y[3 * i], y[3 * i + 1], y[3 * i + 2]]
-            })) * wq
-        },
-        &qx,
-    );
+    let qx = q_vars(&d);
+    let qt: [[Tangent<Q_VARS>; 3]; 4] =
+        std::array::from_fn(|i| std::array::from_fn(|a| Tangent::variable(qx[i][a], 3 * i + a)));
+    let (q, gq) = q_density_gradient(&qt);
     for (i, di) in Q_MAP.iter().enumerate() {
         for a in 0..3 {
+            let gia = &gq[i][a];
             for &d in *di {
-                g[3 * d + a] += gq[3 * i + a];
+                g[3 * d + a] += wq * gia.re;
             }
             for (j, dj) in Q_MAP.iter().enumerate() {
                 for b in 0..3 {
-                    let v = hq[(3 * i + a, 3 * j + b)];
+                    let v = 0.5 * wq * (gia.eps[3 * j + b] + gq[j][b].eps[3 * i + a]);
                     for &d in *di {
                         for &e in *dj {
-                            h[(3 * d + a, 3 * e + b)] += v;
+                            h[3 * d + a][3 * e + b] += v;
                         }
                     }
                 }
             }
         }
     }
-    (g, h)
+    (s, q.re, g)
 }
 
 fn norm3(a: &[f64; 3]) -> f64 {
@@ -191,6 +189,56 @@ pub struct BlockHessian {
     pub values: Vec<[[f64; 3]; 3]>,
 }
 
+/// A run of consecutive quadrature points with the same control vertices (a patch).
+struct Group {
+    points: Range<usize>,
+    /// Block slot of each (k, l) pair of the vertices (row-major, k ≤ l), `u32::MAX`
+    /// where a vertex is fixed or the pair lies below the diagonal.
+    slots: Vec<u32>,
+}
+
+/// Sums of a share of the quadrature points, and the scratch space to compute them.
+struct Partial {
+    terms: Terms,
+    g: Vec<f64>,
+    values: Vec<[[f64; 3]; 3]>,
+    /// The point Hessian.
+    h: Box<PointMatrix>,
+    /// `right[l][3d + a][b] = Σ_e c_l[e] h[3d + a][3e + b]`.
+    right: Vec<[[f64; 3]; VARS]>,
+    /// The patch matrix: 3 × 3 blocks (row-major in a, b) of vertex pairs k ≤ l.
+    local: Vec<[f64; 9]>,
+}
+
+impl Partial {
+    fn new(free_count: usize, blocks: usize) -> Self {
+        Partial {
+            terms: Terms::default(),
+            g: vec![0.0; 3 * free_count],
+            values: vec![[[0.0; 3]; 3]; blocks],
+            h: Box::new([[0.0; VARS]; VARS]),
+            right: Vec::new(),
+            local: Vec::new(),
+        }
+    }
+
+    fn merge(mut self, other: Partial) -> Partial {
+        self.terms.s += other.terms.s;
+        self.terms.q += other.terms.q;
+        for (a, b) in self.g.iter_mut().zip(&other.g) {
+            *a += b;
+        }
+        for (a, b) in self.values.iter_mut().zip(&other.values) {
+            for (ra, rb) in a.iter_mut().zip(b) {
+                for (x, y) in ra.iter_mut().zip(rb) {
+                    *x += y;
+                }
+            }
+        }
+        self
+    }
+}
+
 /// F of a representation with some vertices fixed: the objective F̃ of eq. 6 and its
 /// derivatives, assembled over the free vertices.
 pub struct Functional<'a, R: Representation> {
@@ -201,9 +249,12 @@ pub struct Functional<'a, R: Representation> {
     free_index: Vec<u32>,
     free_count: usize,
     blocks: Vec<(u32, u32)>,
-    /// Per quadrature point, block slot of each (k, l) pair of its vertices (row-major),
-    /// `u32::MAX` where a vertex is fixed or the pair lies below the diagonal.
-    slots: Vec<Vec<u32>>,
+    groups: Vec<Group>,
+}
+
+/// Patches per rayon task: enough work per task to amortize its partial sums.
+fn min_groups_per_task(groups: usize) -> usize {
+    (groups / (4 * rayon::current_num_threads())).max(1)
 }
 
 impl<'a, R: Representation> Functional<'a, R> {
@@ -217,31 +268,44 @@ impl<'a, R: Representation> Functional<'a, R> {
                 free_count += 1;
             }
         }
+        let points = rep.points();
         let mut slot_of: HashMap<(u32, u32), u32> = HashMap::new();
         let mut blocks = Vec::new();
-        let mut slots = Vec::with_capacity(rep.points().len());
-        for p in rep.points() {
-            let m = p.vertices.len();
-            let mut s = vec![u32::MAX; m * m];
+        let mut groups = Vec::new();
+        let mut start = 0;
+        while start < points.len() {
+            let vertices = &points[start].vertices;
+            let end = start
+                + points[start..]
+                    .iter()
+                    .take_while(|p| &p.vertices == vertices)
+                    .count();
+            let m = vertices.len();
+            let mut slots = vec![u32::MAX; m * m];
             for k in 0..m {
-                let i = free_index[p.vertices[k] as usize];
+                let i = free_index[vertices[k] as usize];
                 if i == u32::MAX {
                     continue;
                 }
-                for l in 0..m {
-                    let j = free_index[p.vertices[l] as usize];
-                    if j == u32::MAX || i > j {
+                for l in k..m {
+                    let j = free_index[vertices[l] as usize];
+                    if j == u32::MAX {
                         continue;
                     }
+                    // Free indices grow with vertex ids and `vertices` is sorted: i ≤ j.
                     let next = blocks.len() as u32;
                     let slot = *slot_of.entry((i, j)).or_insert_with(|| {
                         blocks.push((i, j));
                         next
                     });
-                    s[k * m + l] = slot;
+                    slots[k * m + l] = slot;
                 }
             }
-            slots.push(s);
+            groups.push(Group {
+                points: start..end,
+                slots,
+            });
+            start = end;
         }
         Functional {
             rep,
@@ -249,7 +313,7 @@ impl<'a, R: Representation> Functional<'a, R> {
             free_index,
             free_count,
             blocks,
-            slots,
+            groups,
         }
     }
 
@@ -265,15 +329,22 @@ impl<'a, R: Representation> Functional<'a, R> {
 
     /// S, Q and F at `positions` (eq. 2–5).
     pub fn value(&self, positions: &[[f64; 3]]) -> Terms {
-        let mut t = Terms::default();
-        for (k, p) in self.rep.points().iter().enumerate() {
-            let x = point_derivatives(self.rep, k, positions);
-            let (s, q) = densities(&unpack(&x));
-            t.s += p.weight_s * s;
-            t.q += p.weight_q * q;
+        let (s, q) = self
+            .rep
+            .points()
+            .par_iter()
+            .enumerate()
+            .with_min_len(256)
+            .map(|(k, p)| {
+                let (s, q) = densities(&unpack(&point_derivatives(self.rep, k, positions)));
+                (p.weight_s * s, p.weight_q * q)
+            })
+            .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+        Terms {
+            s,
+            q,
+            f: s + self.c * q,
         }
-        t.f = t.s + self.c * t.q;
-        t
     }
 
     /// Area-weighted mean and standard deviation of the mean curvature H over the
@@ -300,27 +371,29 @@ impl<'a, R: Representation> Functional<'a, R> {
 
     /// The terms and the gradient of F̃ (3 entries per free vertex).
     pub fn gradient(&self, positions: &[[f64; 3]]) -> (Terms, Vec<f64>) {
-        let mut t = Terms::default();
-        let mut g = vec![0.0; 3 * self.free_count];
-        for (k, p) in self.rep.points().iter().enumerate() {
-            let x = SVector::<f64, VARS>::from(point_derivatives(self.rep, k, positions));
-            let (ws, wq) = (p.weight_s, self.c * p.weight_q);
-            let ((s, q), (_, grad)) = (
-                densities(&unpack(x.as_slice())),
-                gradient(
-                    |y| {
-                        let (s, q) = densities(&unpack(y.as_slice()));
-                        s * ws + q * wq
-                    },
-                    &x,
-                ),
-            );
-            t.s += ws * s;
-            t.q += p.weight_q * q;
-            self.scatter_gradient(k, grad.as_slice(), &mut g);
-        }
+        let total = self
+            .groups
+            .par_iter()
+            .with_min_len(min_groups_per_task(self.groups.len()))
+            .fold(
+                || Partial::new(self.free_count, 0),
+                |mut acc, group| {
+                    for k in group.points.clone() {
+                        let p = &self.rep.points()[k];
+                        let x = point_derivatives(self.rep, k, positions);
+                        let (ws, wq) = (p.weight_s, self.c * p.weight_q);
+                        let (s, q, grad) = point_gradient(&x, ws, wq);
+                        acc.terms.s += ws * s;
+                        acc.terms.q += p.weight_q * q;
+                        self.scatter_gradient(k, &grad, &mut acc.g);
+                    }
+                    acc
+                },
+            )
+            .reduce(|| Partial::new(self.free_count, 0), Partial::merge);
+        let mut t = total.terms;
         t.f = t.s + self.c * t.q;
-        (t, g)
+        (t, total.g)
     }
 
     fn scatter_gradient(&self, k: usize, grad: &[f64], g: &mut [f64]) {
@@ -340,67 +413,89 @@ impl<'a, R: Representation> Functional<'a, R> {
         }
     }
 
-    /// The terms, gradient and Hessian of F̃ (eq. 7's g and H).
-    pub fn hessian(&self, positions: &[[f64; 3]]) -> (Terms, Vec<f64>, BlockHessian) {
-        let mut t = Terms::default();
-        let mut g = vec![0.0; 3 * self.free_count];
-        let mut values = vec![[[0.0; 3]; 3]; self.blocks.len()];
-        let mut right: Vec<[[f64; 3]; VARS]> = Vec::new();
-        for (k, p) in self.rep.points().iter().enumerate() {
+    /// Adds one patch's terms, gradient and Hessian blocks to `acc`.
+    fn add_patch_hessian(&self, group: &Group, positions: &[[f64; 3]], acc: &mut Partial) {
+        let points = self.rep.points();
+        let m = points[group.points.start].vertices.len();
+        acc.local.clear();
+        acc.local.resize(m * m, [0.0; 9]);
+        for k in group.points.clone() {
+            let p = &points[k];
             let x = point_derivatives(self.rep, k, positions);
             let (ws, wq) = (p.weight_s, self.c * p.weight_q);
-            let (s, q) = densities(&unpack(&x));
-            t.s += ws * s;
-            t.q += p.weight_q * q;
-            let (grad, h) = point_hessian(&x, ws, wq);
-            self.scatter_gradient(k, grad.as_slice(), &mut g);
-            // right[l][3d + a][b] = Σ_e c_l[e] h[3d + a][3e + b]
-            let m = p.vertices.len();
-            right.clear();
+            let (s, q, grad) = point_hessian(&x, ws, wq, &mut acc.h);
+            acc.terms.s += ws * s;
+            acc.terms.q += p.weight_q * q;
+            self.scatter_gradient(k, &grad, &mut acc.g);
+            let h = &*acc.h;
+            acc.right.clear();
             for c in &p.coefficients {
                 let mut r = [[0.0; 3]; VARS];
-                for (row, rrow) in r.iter_mut().enumerate() {
-                    for (e, &ce) in c.iter().enumerate() {
-                        if ce == 0.0 {
-                            continue;
-                        }
+                for (e, &ce) in c.iter().enumerate() {
+                    if ce == 0.0 {
+                        continue;
+                    }
+                    for (rrow, hrow) in r.iter_mut().zip(h.iter()) {
                         for b in 0..3 {
-                            rrow[b] += ce * h[(row, 3 * e + b)];
+                            rrow[b] += ce * hrow[3 * e + b];
                         }
                     }
                 }
-                right.push(r);
+                acc.right.push(r);
             }
-            let slots = &self.slots[k];
-            for kk in 0..m {
-                let ck = &p.coefficients[kk];
-                for l in 0..m {
-                    let slot = slots[kk * m + l];
-                    if slot == u32::MAX {
-                        continue;
-                    }
-                    let r = &right[l];
-                    let block = &mut values[slot as usize];
+            for (kk, ck) in p.coefficients.iter().enumerate() {
+                for l in kk..m {
+                    let r = &acc.right[l];
+                    let block = &mut acc.local[kk * m + l];
                     for (d, &cd) in ck.iter().enumerate() {
                         if cd == 0.0 {
                             continue;
                         }
                         for a in 0..3 {
                             for b in 0..3 {
-                                block[a][b] += cd * r[3 * d + a][b];
+                                block[3 * a + b] += cd * r[3 * d + a][b];
                             }
                         }
                     }
                 }
             }
         }
+        for (slot, local) in group.slots.iter().zip(&acc.local) {
+            if *slot == u32::MAX {
+                continue;
+            }
+            let block = &mut acc.values[*slot as usize];
+            for a in 0..3 {
+                for b in 0..3 {
+                    block[a][b] += local[3 * a + b];
+                }
+            }
+        }
+    }
+
+    /// The terms, gradient and Hessian of F̃ (eq. 7's g and H).
+    pub fn hessian(&self, positions: &[[f64; 3]]) -> (Terms, Vec<f64>, BlockHessian) {
+        let blocks = self.blocks.len();
+        let total = self
+            .groups
+            .par_iter()
+            .with_min_len(min_groups_per_task(self.groups.len()))
+            .fold(
+                || Partial::new(self.free_count, blocks),
+                |mut acc, group| {
+                    self.add_patch_hessian(group, positions, &mut acc);
+                    acc
+                },
+            )
+            .reduce(|| Partial::new(self.free_count, blocks), Partial::merge);
+        let mut t = total.terms;
         t.f = t.s + self.c * t.q;
         (
             t,
-            g,
+            total.g,
             BlockHessian {
                 blocks: self.blocks.clone(),
-                values,
+                values: total.values,
             },
         )
     }
@@ -411,6 +506,8 @@ mod tests {
     use super::*;
     use crate::assert_near;
     use crate::tolerance::ROUND_OFF;
+    use nalgebra::SVector;
+    use num_dual::{hessian, Dual};
 
     fn point(x: f64, y: f64, r: f64) -> [[f64; 3]; DERIVATIVES] {
         // A sphere of radius r, p(u, v) = (u, v, √(r² − u² − v²)), derivatives at (x, y).
@@ -438,6 +535,34 @@ mod tests {
         ]
     }
 
+    /// Density of S (eq. 3): ∇H G⁻¹ ∇Hᵀ √det G at a point with derivatives `d`.
+    fn nested_dual_s_density<T: DualNum<Primitive = f64> + Copy>(d: &[[T; 3]; DERIVATIVES]) -> T {
+        let [pu, pv, puu, puv, pvv, puuu, puuv, puvv, pvvv] = d;
+        let lift = |a: &[T; 3], b: &[T; 3]| -> [Dual<T>; 3] {
+            std::array::from_fn(|k| Dual::new(a[k], b[k]))
+        };
+        // ∂H/∂u: the tangent of (p_u, p_v, p_uu, p_uv, p_vv) along u.
+        let hu = mean_curvature(
+            &lift(pu, puu),
+            &lift(pv, puv),
+            &lift(puu, puuu),
+            &lift(puv, puuv),
+            &lift(pvv, puvv),
+        )
+        .eps;
+        let hv = mean_curvature(
+            &lift(pu, puv),
+            &lift(pv, pvv),
+            &lift(puu, puuv),
+            &lift(puv, puvv),
+            &lift(pvv, pvvv),
+        )
+        .eps;
+        let (e, f, g) = (dot(pu, pu), dot(pu, pv), dot(pv, pv));
+        let w2 = e * g - f * f;
+        (hu * hu * g - hu * hv * f * 2.0 + hv * hv * e) / w2.sqrt()
+    }
+
     #[test]
     fn sphere_has_constant_mean_curvature_and_no_s_density() {
         let r = 2.0;
@@ -449,29 +574,72 @@ mod tests {
     }
 
     #[test]
-    fn own_second_order_type_matches_num_dual() {
-        // A generic point: derivatives with no special structure.
+    fn forward_over_reverse_matches_num_dual() {
+        // A generic point: derivatives with no special structure. num-dual's second-order
+        // duals through the nested-dual formulation (an independent implementation of
+        // eq. 3) against the reverse-accumulated gradient and its tangents.
         let x: [f64; VARS] = std::array::from_fn(|i| {
             let t = i as f64;
             (0.7 * t + 0.3).sin() + if i == 0 || i == 4 { 2.0 } else { 0.0 }
         });
         let d = unpack(&x);
-        assert_near!(second_order::s_density(&d), s_density(&d), ROUND_OFF);
+        assert_near!(nested_dual_s_density(&d), s_density(&d), ROUND_OFF);
         let (value, grad, hess) = hessian(
-            |y| s_density(&unpack(y.as_slice())),
+            |y| nested_dual_s_density(&unpack(y.as_slice())),
             &SVector::<f64, VARS>::from(x),
         );
-        let own: [[Second; 3]; DERIVATIVES] = std::array::from_fn(|k| {
-            std::array::from_fn(|a| Second::variable(x[3 * k + a], 3 * k + a))
-        });
-        let own = second_order::s_density(&own);
-        let full = own.hessian();
+        let (own_value, own_grad) = s_density_gradient(&d);
+        let mut h = [[0.0; VARS]; VARS];
+        let (s, _, g) = point_hessian(&x, 1.0, 0.0, &mut h);
         let scale = hess.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        assert_near!(own.re, value, ROUND_OFF);
+        let gscale = grad.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert_near!(own_value, value, ROUND_OFF);
+        assert_near!(s, value, ROUND_OFF);
         for i in 0..VARS {
-            assert_near!(own.g[i] / scale, grad[i] / scale, ROUND_OFF);
+            assert_near!(own_grad[i / 3][i % 3] / gscale, grad[i] / gscale, ROUND_OFF);
+            assert_near!(g[i] / gscale, grad[i] / gscale, ROUND_OFF);
             for j in 0..VARS {
-                assert_near!(full[i * VARS + j] / scale, hess[(i, j)] / scale, ROUND_OFF);
+                assert_near!(h[i][j] / scale, hess[(i, j)] / scale, ROUND_OFF);
+            }
+        }
+    }
+
+    /// Q's density written directly over num-dual's scalars (eq. 5 with P = I − n nᵀ).
+    fn num_dual_q_density<T: DualNum<Primitive = f64> + Copy>(d: &[[T; 3]; DERIVATIVES]) -> T {
+        let lap_u: [T; 3] = std::array::from_fn(|a| d[5][a] + d[7][a]);
+        let lap_v: [T; 3] = std::array::from_fn(|a| d[6][a] + d[8][a]);
+        let n = cross(&d[0], &d[1]);
+        let nn = dot(&n, &n);
+        let project = |x: &[T; 3]| -> [T; 3] {
+            let k = dot(&n, x) / nn;
+            std::array::from_fn(|a| x[a] - n[a] * k)
+        };
+        let (pu, pv) = (project(&lap_u), project(&lap_v));
+        dot(&pu, &pu) + dot(&pv, &pv)
+    }
+
+    #[test]
+    fn q_forward_over_reverse_matches_num_dual() {
+        let x: [f64; VARS] = std::array::from_fn(|i| {
+            let t = i as f64;
+            (1.3 * t + 0.1).cos() + if i == 0 || i == 4 { 2.0 } else { 0.0 }
+        });
+        let (value, grad, hess) = hessian(
+            |y| num_dual_q_density(&unpack(y.as_slice())),
+            &SVector::<f64, VARS>::from(x),
+        );
+        let mut h = [[0.0; VARS]; VARS];
+        let (_, q, g) = point_hessian(&x, 0.0, 1.0, &mut h);
+        let (_, q_only, g_only) = point_gradient(&x, 0.0, 1.0);
+        let scale = hess.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let gscale = grad.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert_near!(q, value, ROUND_OFF);
+        assert_near!(q_only, value, ROUND_OFF);
+        for i in 0..VARS {
+            assert_near!(g[i] / gscale, grad[i] / gscale, ROUND_OFF);
+            assert_near!(g_only[i] / gscale, grad[i] / gscale, ROUND_OFF);
+            for j in 0..VARS {
+                assert_near!(h[i][j] / scale, hess[(i, j)] / scale, ROUND_OFF);
             }
         }
     }
@@ -488,7 +656,6 @@ mod tests {
         // At a flat point of the graph z(u, v), H_u = (z_uuu + z_uvv) / 2 = 1 and
         // H_v = (z_uuv + z_vvv) / 2 = −1/2: the density is H_u² + H_v².
         assert_near!(s, 1.25, ROUND_OFF);
-        assert_near!(second_order::s_density(&d), 1.25, ROUND_OFF);
         assert_near!(q, 0.0, ROUND_OFF);
         // A tangential one is not: ‖(3, 0, 0)‖² for Δp_u.
         d[5] = [3.0, 0.0, 0.0];

@@ -16,9 +16,11 @@ mod disc;
 mod functional;
 mod optimize;
 mod prepare;
+mod q_density;
 mod quadrature;
 mod representation;
-mod second_order;
+mod s_density;
+mod tangent;
 mod topology;
 mod tubes;
 

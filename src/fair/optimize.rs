@@ -3,6 +3,8 @@
 //! F, a search along the Levenberg–Marquardt trajectory (eq. 8–9); the Hessian and its
 //! factor are reused while a step cuts the gradient norm by at least a factor 4.
 
+use std::time::Instant;
+
 use crate::error::{Error, Result};
 use crate::fair::cholesky::{Factor, Factorizer};
 use crate::fair::functional::{Functional, Terms};
@@ -60,6 +62,11 @@ pub struct NewtonReport {
     pub initial_gradient_norm: f64,
     pub iterations: Vec<Iteration>,
     pub hessian_evaluations: usize,
+    /// Numeric Cholesky factorizations (Newton and Levenberg–Marquardt trials).
+    pub factorizations: usize,
+    /// Wall-clock seconds spent evaluating Hessians, and in factorizations.
+    pub hessian_seconds: f64,
+    pub factorization_seconds: f64,
     pub converged: bool,
 }
 
@@ -125,6 +132,9 @@ pub fn newton_observed<R: Representation>(
         initial_gradient_norm: g0,
         iterations: Vec::new(),
         hessian_evaluations: 0,
+        factorizations: 0,
+        hessian_seconds: 0.0,
+        factorization_seconds: 0.0,
         converged: g0 == 0.0,
     };
     if functional.free_count() == 0 || g0 == 0.0 {
@@ -132,6 +142,9 @@ pub fn newton_observed<R: Representation>(
         return Ok(report);
     }
     let mut reusable: Option<Factor> = None;
+    // ν of the last Levenberg–Marquardt step: consecutive searches start there instead of
+    // climbing from a tiny ν again (each try costs a factorization).
+    let mut last_nu: Option<f64> = None;
     while report.iterations.len() < options.max_iterations {
         let gnorm = norm(&g);
         if gnorm <= options.relative_gradient * g0 {
@@ -163,12 +176,18 @@ pub fn newton_observed<R: Representation>(
             reusable = None;
         }
         // 2. Fresh Hessian, Newton step if positive definite and decreasing.
+        let clock = Instant::now();
         let (t0, g0h, h) = functional.hessian(positions);
         report.hessian_evaluations += 1;
+        report.hessian_seconds += clock.elapsed().as_secs_f64();
         terms = t0;
         g = g0h;
         let gnorm = norm(&g);
-        if let Ok(factor) = factorizer.factor(&h, 0.0) {
+        let clock = Instant::now();
+        let factored = factorizer.factor(&h, 0.0);
+        report.factorizations += 1;
+        report.factorization_seconds += clock.elapsed().as_secs_f64();
+        if let Ok(factor) = factored {
             let delta = factor.newton_step(&g);
             let trial = moved(positions, &free, &delta);
             let (t, gt) = functional.gradient(&trial);
@@ -201,9 +220,16 @@ pub fn newton_observed<R: Representation>(
             .map(|(_, v)| v[0][0].abs() + v[1][1].abs() + v[2][2].abs())
             .sum::<f64>()
             / (3 * functional.free_count()) as f64;
-        let mut nu = scale.max(f64::MIN_POSITIVE) * 1e-3;
-        let try_nu = |nu: f64, factorizer: &mut Factorizer| -> Option<(Terms, Vec<[f64; 3]>)> {
-            let factor = factorizer.factor(&h, nu).ok()?;
+        let mut nu = last_nu.unwrap_or(scale.max(f64::MIN_POSITIVE) * 1e-3);
+        let try_nu = |nu: f64,
+                      factorizer: &mut Factorizer,
+                      report: &mut NewtonReport|
+         -> Option<(Terms, Vec<[f64; 3]>)> {
+            let clock = Instant::now();
+            let factored = factorizer.factor(&h, nu);
+            report.factorizations += 1;
+            report.factorization_seconds += clock.elapsed().as_secs_f64();
+            let factor = factored.ok()?;
             let delta = factor.newton_step(&g);
             let trial = moved(positions, &free, &delta);
             let t = functional.value(&trial);
@@ -211,7 +237,7 @@ pub fn newton_observed<R: Representation>(
         };
         let mut best = None;
         for _ in 0..60 {
-            if let Some(found) = try_nu(nu, &mut factorizer) {
+            if let Some(found) = try_nu(nu, &mut factorizer, &mut report) {
                 best = Some((nu, found));
                 break;
             }
@@ -253,7 +279,7 @@ pub fn newton_observed<R: Representation>(
         for &factor in refine {
             let mut moved_any = false;
             for _ in 0..30 {
-                match try_nu(best_nu * factor, &mut factorizer) {
+                match try_nu(best_nu * factor, &mut factorizer, &mut report) {
                     Some((t, x)) if t.f < best_t.f => {
                         best_nu *= factor;
                         best_t = t;
@@ -266,6 +292,9 @@ pub fn newton_observed<R: Representation>(
             if moved_any {
                 break;
             }
+        }
+        if best_nu.is_finite() {
+            last_nu = Some(best_nu);
         }
         *positions = best_x;
         let (t, gt) = functional.gradient(positions);

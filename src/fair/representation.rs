@@ -29,7 +29,7 @@ pub struct QuadraturePoint {
 }
 
 /// Control vertices → per-quadrature-point derivatives as fixed linear maps.
-pub trait Representation {
+pub trait Representation: Sync {
     /// Number of control vertices.
     fn vertex_count(&self) -> usize;
     /// The quadrature points of all elements.

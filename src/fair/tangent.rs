@@ -1,0 +1,143 @@
+//! The scalars the densities of F are written over: `f64`, and [`Tangent`], a first-order
+//! forward-mode dual number over the derivative coordinates of a quadrature point.
+//!
+//! The per-point Hessian is the Jacobian of the reverse-accumulated gradient
+//! ([`crate::fair::s_density::s_density_gradient`]) evaluated over [`Tangent`]s
+//! (forward-over-reverse): every operation costs O(27) instead of the O(27²) of a
+//! second-order dual, and a value is 224 bytes instead of 3.2 kB.
+
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// Scalars with the arithmetic S's density needs.
+pub trait Num:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    fn constant(x: f64) -> Self;
+    fn scale(self, k: f64) -> Self;
+    fn sqrt(self) -> Self;
+}
+
+impl Num for f64 {
+    #[inline(always)]
+    fn constant(x: f64) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn scale(self, k: f64) -> Self {
+        self * k
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+}
+
+/// A value and its derivatives with respect to `N` variables.
+#[derive(Clone, Copy, Debug)]
+pub struct Tangent<const N: usize> {
+    pub re: f64,
+    pub eps: [f64; N],
+}
+
+impl<const N: usize> Tangent<N> {
+    /// Variable `i` with value `x`.
+    pub fn variable(x: f64, i: usize) -> Self {
+        let mut eps = [0.0; N];
+        eps[i] = 1.0;
+        Tangent { re: x, eps }
+    }
+
+    /// f(self) from f and f′ at `self.re` (the chain rule).
+    #[inline(always)]
+    fn chain(mut self, f: f64, d1: f64) -> Self {
+        self.re = f;
+        for e in self.eps.iter_mut() {
+            *e *= d1;
+        }
+        self
+    }
+}
+
+impl<const N: usize> Add for Tangent<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(mut self, b: Self) -> Self {
+        self.re += b.re;
+        for i in 0..N {
+            self.eps[i] += b.eps[i];
+        }
+        self
+    }
+}
+
+impl<const N: usize> Sub for Tangent<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(mut self, b: Self) -> Self {
+        self.re -= b.re;
+        for i in 0..N {
+            self.eps[i] -= b.eps[i];
+        }
+        self
+    }
+}
+
+impl<const N: usize> Neg for Tangent<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        self.scale(-1.0)
+    }
+}
+
+impl<const N: usize> Mul for Tangent<N> {
+    type Output = Self;
+    #[inline(always)]
+    #[allow(clippy::suspicious_arithmetic_impl)] // the product rule
+    fn mul(mut self, b: Self) -> Self {
+        for i in 0..N {
+            self.eps[i] = self.re * b.eps[i] + b.re * self.eps[i];
+        }
+        self.re *= b.re;
+        self
+    }
+}
+
+impl<const N: usize> Div for Tangent<N> {
+    type Output = Self;
+    #[inline(always)]
+    #[allow(clippy::suspicious_arithmetic_impl)] // the quotient rule
+    fn div(mut self, b: Self) -> Self {
+        let r = 1.0 / b.re;
+        let q = self.re * r;
+        for i in 0..N {
+            self.eps[i] = (self.eps[i] - q * b.eps[i]) * r;
+        }
+        self.re = q;
+        self
+    }
+}
+
+impl<const N: usize> Num for Tangent<N> {
+    #[inline(always)]
+    fn constant(x: f64) -> Self {
+        Tangent {
+            re: x,
+            eps: [0.0; N],
+        }
+    }
+    #[inline(always)]
+    fn scale(self, k: f64) -> Self {
+        self.chain(self.re * k, k)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        let s = self.re.sqrt();
+        self.chain(s, 0.5 / s)
+    }
+}
