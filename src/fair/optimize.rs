@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::fair::cholesky::{Factor, Factorizer};
-use crate::fair::functional::{Functional, Terms};
+use crate::fair::functional::{BlockHessian, Functional, Terms};
 use crate::fair::representation::Representation;
 use crate::tolerance::ROUND_OFF;
 
@@ -105,6 +105,151 @@ pub fn newton<R: Representation>(
     newton_observed(functional, positions, options, &mut |_| {})
 }
 
+/// A point reached by a trial step.
+struct Trial {
+    terms: Terms,
+    positions: Vec<[f64; 3]>,
+}
+
+/// The evaluations one iteration may make, with their counters.
+struct Stepper<'a, 'r, R: Representation> {
+    functional: &'a Functional<'r, R>,
+    free: Vec<u32>,
+    factorizer: Factorizer,
+    report: NewtonReport,
+}
+
+impl<R: Representation> Stepper<'_, '_, R> {
+    fn factor(&mut self, h: &BlockHessian, nu: f64) -> Option<Factor> {
+        let clock = Instant::now();
+        let factored = self.factorizer.factor(h, nu);
+        self.report.factorizations += 1;
+        self.report.factorization_seconds += clock.elapsed().as_secs_f64();
+        factored.ok()
+    }
+
+    fn hessian(&mut self, positions: &[[f64; 3]]) -> (Terms, Vec<f64>, BlockHessian) {
+        let clock = Instant::now();
+        let out = self.functional.hessian(positions);
+        self.report.hessian_evaluations += 1;
+        self.report.hessian_seconds += clock.elapsed().as_secs_f64();
+        out
+    }
+
+    /// The Newton step of `factor` (eq. 7) with its new gradient, if it decreases F.
+    fn newton_trial(
+        &self,
+        factor: &Factor,
+        g: &[f64],
+        positions: &[[f64; 3]],
+        f: f64,
+    ) -> Option<(Trial, Vec<f64>)> {
+        let trial = moved(positions, &self.free, &factor.newton_step(g));
+        let (t, gt) = self.functional.gradient(&trial);
+        (decreases(t.f, f) && norm(&gt).is_finite()).then_some((
+            Trial {
+                terms: t,
+                positions: trial,
+            },
+            gt,
+        ))
+    }
+
+    /// F̃(x + δ_ν) with (H + ν I) δ_ν = −g (eq. 8–9), if it is below `f`.
+    fn lm_trial(
+        &mut self,
+        h: &BlockHessian,
+        nu: f64,
+        g: &[f64],
+        positions: &[[f64; 3]],
+        f: f64,
+    ) -> Option<Trial> {
+        let factor = self.factor(h, nu)?;
+        let trial = moved(positions, &self.free, &factor.newton_step(g));
+        let t = self.functional.value(&trial);
+        (t.f.is_finite() && t.f < f).then_some(Trial {
+            terms: t,
+            positions: trial,
+        })
+    }
+
+    /// Minimizes f(ν) = F̃(x + δ_ν) (eq. 8–9) over ν on a geometric grid (factors of 4):
+    /// from `start`, grow ν until F decreases, then follow the direction in which F keeps
+    /// decreasing. `None` when no ν decreases F.
+    fn lm_search(
+        &mut self,
+        h: &BlockHessian,
+        g: &[f64],
+        positions: &[[f64; 3]],
+        f: f64,
+        start: f64,
+    ) -> Option<(f64, Trial)> {
+        let mut nu = start;
+        let mut best = None;
+        for _ in 0..60 {
+            if let Some(found) = self.lm_trial(h, nu, g, positions, f) {
+                best = Some((nu, found));
+                break;
+            }
+            nu *= 4.0;
+        }
+        let (mut best_nu, mut best_trial) = best?;
+        for factor in [0.25, 4.0] {
+            let mut moved_any = false;
+            for _ in 0..30 {
+                match self.lm_trial(h, best_nu * factor, g, positions, f) {
+                    Some(t) if t.terms.f < best_trial.terms.f => {
+                        best_nu *= factor;
+                        best_trial = t;
+                        moved_any = true;
+                    }
+                    _ => break,
+                }
+            }
+            if moved_any {
+                break;
+            }
+        }
+        Some((best_nu, best_trial))
+    }
+
+    /// Backtracking along −g (a safeguard, not in the paper) for when no H + νI gave a
+    /// decrease: a non-finite Hessian entry at a nearly degenerate point, say.
+    fn steepest_descent(
+        &self,
+        g: &[f64],
+        positions: &[[f64; 3]],
+        f: f64,
+        scale: f64,
+    ) -> Option<Trial> {
+        let mut alpha = 1.0 / scale.max(f64::MIN_POSITIVE);
+        for _ in 0..60 {
+            let delta: Vec<f64> = g.iter().map(|x| -alpha * x).collect();
+            let trial = moved(positions, &self.free, &delta);
+            let t = self.functional.value(&trial);
+            if t.f.is_finite() && t.f < f {
+                return Some(Trial {
+                    terms: t,
+                    positions: trial,
+                });
+            }
+            alpha *= 0.25;
+        }
+        None
+    }
+}
+
+/// Mean absolute diagonal entry of `h`: the scale of ν.
+fn diagonal_scale(h: &BlockHessian, free_count: usize) -> f64 {
+    h.blocks
+        .iter()
+        .zip(&h.values)
+        .filter(|(b, _)| b.0 == b.1)
+        .map(|(_, v)| v[0][0].abs() + v[1][1].abs() + v[2][2].abs())
+        .sum::<f64>()
+        / (3 * free_count) as f64
+}
+
 /// [`newton`], calling `observe` after each iteration (for progress display).
 ///
 /// # Errors
@@ -115,8 +260,6 @@ pub fn newton_observed<R: Representation>(
     options: &NewtonOptions,
     observe: &mut dyn FnMut(&Iteration),
 ) -> Result<NewtonReport> {
-    let free = functional.free_index().to_vec();
-    let mut factorizer = Factorizer::new(functional.free_count());
     let (mut terms, mut g) = functional.gradient(positions);
     if !terms.f.is_finite() || !g.iter().all(|x| x.is_finite()) {
         return Err(Error::Solver {
@@ -127,139 +270,71 @@ pub fn newton_observed<R: Representation>(
         });
     }
     let g0 = norm(&g);
-    let mut report = NewtonReport {
-        initial: terms,
-        initial_gradient_norm: g0,
-        iterations: Vec::new(),
-        hessian_evaluations: 0,
-        factorizations: 0,
-        hessian_seconds: 0.0,
-        factorization_seconds: 0.0,
-        converged: g0 == 0.0,
+    let mut run = Stepper {
+        functional,
+        free: functional.free_index().to_vec(),
+        factorizer: Factorizer::new(functional.free_count()),
+        report: NewtonReport {
+            initial: terms,
+            initial_gradient_norm: g0,
+            iterations: Vec::new(),
+            hessian_evaluations: 0,
+            factorizations: 0,
+            hessian_seconds: 0.0,
+            factorization_seconds: 0.0,
+            converged: g0 == 0.0,
+        },
     };
     if functional.free_count() == 0 || g0 == 0.0 {
-        report.converged = true;
-        return Ok(report);
+        run.report.converged = true;
+        return Ok(run.report);
     }
+    // The factor of the last effective Newton step (§5).
     let mut reusable: Option<Factor> = None;
-    // ν of the last Levenberg–Marquardt step: consecutive searches start there instead of
-    // climbing from a tiny ν again (each try costs a factorization).
-    let mut last_nu: Option<f64> = None;
-    while report.iterations.len() < options.max_iterations {
+    while run.report.iterations.len() < options.max_iterations {
         let gnorm = norm(&g);
         if gnorm <= options.relative_gradient * g0 {
-            report.converged = true;
+            run.report.converged = true;
             break;
         }
+        let mut step = None;
         // 1. Newton with the kept factor.
-        if let Some(factor) = &reusable {
-            let delta = factor.newton_step(&g);
-            let trial = moved(positions, &free, &delta);
-            let (t, gt) = functional.gradient(&trial);
-            if decreases(t.f, terms.f) && norm(&gt).is_finite() {
-                let effective = norm(&gt) * options.reuse_factor <= gnorm;
-                *positions = trial;
-                terms = t;
-                g = gt;
-                report.iterations.push(Iteration {
-                    terms,
-                    gradient_norm: norm(&g),
-                    step: StepKind::ReusedNewton,
-                    nu: None,
-                });
-                observe(report.iterations.last().expect("just pushed"));
-                if !effective {
-                    reusable = None;
-                }
-                continue;
-            }
-            reusable = None;
-        }
-        // 2. Fresh Hessian, Newton step if positive definite and decreasing.
-        let clock = Instant::now();
-        let (t0, g0h, h) = functional.hessian(positions);
-        report.hessian_evaluations += 1;
-        report.hessian_seconds += clock.elapsed().as_secs_f64();
-        terms = t0;
-        g = g0h;
-        let gnorm = norm(&g);
-        let clock = Instant::now();
-        let factored = factorizer.factor(&h, 0.0);
-        report.factorizations += 1;
-        report.factorization_seconds += clock.elapsed().as_secs_f64();
-        if let Ok(factor) = factored {
-            let delta = factor.newton_step(&g);
-            let trial = moved(positions, &free, &delta);
-            let (t, gt) = functional.gradient(&trial);
-            if decreases(t.f, terms.f) && norm(&gt).is_finite() {
-                let effective = norm(&gt) * options.reuse_factor <= gnorm;
-                *positions = trial;
-                terms = t;
-                g = gt;
-                report.iterations.push(Iteration {
-                    terms,
-                    gradient_norm: norm(&g),
-                    step: StepKind::Newton,
-                    nu: None,
-                });
-                observe(report.iterations.last().expect("just pushed"));
-                if effective {
+        if let Some(factor) = reusable.take() {
+            if let Some((trial, gt)) = run.newton_trial(&factor, &g, positions, terms.f) {
+                if norm(&gt) * options.reuse_factor <= gnorm {
                     reusable = Some(factor);
                 }
-                continue;
+                step = Some((trial, Some(gt), StepKind::ReusedNewton, None));
             }
         }
-        // 3. Levenberg–Marquardt trajectory: minimize f(ν) = F̃(x + δ_ν) (eq. 8–9) over
-        // ν on a geometric grid (factors of 4): grow ν until F decreases, then follow the
-        // direction in which F keeps decreasing.
-        let scale = h
-            .blocks
-            .iter()
-            .zip(&h.values)
-            .filter(|(b, _)| b.0 == b.1)
-            .map(|(_, v)| v[0][0].abs() + v[1][1].abs() + v[2][2].abs())
-            .sum::<f64>()
-            / (3 * functional.free_count()) as f64;
-        let mut nu = last_nu.unwrap_or(scale.max(f64::MIN_POSITIVE) * 1e-3);
-        let try_nu = |nu: f64,
-                      factorizer: &mut Factorizer,
-                      report: &mut NewtonReport|
-         -> Option<(Terms, Vec<[f64; 3]>)> {
-            let clock = Instant::now();
-            let factored = factorizer.factor(&h, nu);
-            report.factorizations += 1;
-            report.factorization_seconds += clock.elapsed().as_secs_f64();
-            let factor = factored.ok()?;
-            let delta = factor.newton_step(&g);
-            let trial = moved(positions, &free, &delta);
-            let t = functional.value(&trial);
-            (t.f.is_finite() && t.f < terms.f).then_some((t, trial))
-        };
-        let mut best = None;
-        for _ in 0..60 {
-            if let Some(found) = try_nu(nu, &mut factorizer, &mut report) {
-                best = Some((nu, found));
-                break;
-            }
-            nu *= 4.0;
-        }
-        if best.is_none() {
-            // Safeguard (not in the paper): every H + νI failed to factor or to decrease F
-            // (a non-finite Hessian entry at a nearly degenerate point, say). Steepest
-            // descent with backtracking still decreases F when the gradient is sound.
-            let mut alpha = 1.0 / scale.max(f64::MIN_POSITIVE);
-            for _ in 0..60 {
-                let delta: Vec<f64> = g.iter().map(|x| -alpha * x).collect();
-                let trial = moved(positions, &free, &delta);
-                let t = functional.value(&trial);
-                if t.f.is_finite() && t.f < terms.f {
-                    best = Some((f64::INFINITY, (t, trial)));
-                    break;
+        // 2. Fresh Hessian: Newton if positive definite and decreasing, else the
+        // Levenberg–Marquardt trajectory.
+        if step.is_none() {
+            let (t0, g0h, h) = run.hessian(positions);
+            terms = t0;
+            g = g0h;
+            let gnorm = norm(&g);
+            if let Some(factor) = run.factor(&h, 0.0) {
+                if let Some((trial, gt)) = run.newton_trial(&factor, &g, positions, terms.f) {
+                    if norm(&gt) * options.reuse_factor <= gnorm {
+                        reusable = Some(factor);
+                    }
+                    step = Some((trial, Some(gt), StepKind::Newton, None));
                 }
-                alpha *= 0.25;
+            }
+            if step.is_none() {
+                let scale = diagonal_scale(&h, functional.free_count());
+                // Climbing from a small ν finds the smallest decreasing ν first, i.e. the
+                // longest step (starting at the last ν instead was measured: more Hessians).
+                let start = scale.max(f64::MIN_POSITIVE) * 1e-3;
+                if let Some((nu, trial)) = run.lm_search(&h, &g, positions, terms.f, start) {
+                    step = Some((trial, None, StepKind::LevenbergMarquardt, Some(nu)));
+                } else if let Some(trial) = run.steepest_descent(&g, positions, terms.f, scale) {
+                    step = Some((trial, None, StepKind::SteepestDescent, None));
+                }
             }
         }
-        let Some((mut best_nu, (mut best_t, mut best_x))) = best else {
+        let Some((trial, gradient, kind, nu)) = step else {
             return Err(Error::Solver {
                 failure: crate::error::SolverFailure::NotConverged,
                 detail: format!(
@@ -269,50 +344,20 @@ pub fn newton_observed<R: Representation>(
                 ),
             });
         };
-        // f(ν) along the trajectory: move ν by factors of 4 in the direction that lowers
-        // F further, until it stops improving.
-        let refine: &[f64] = if best_nu.is_finite() {
-            &[0.25, 4.0]
-        } else {
-            &[]
+        *positions = trial.positions;
+        (terms, g) = match gradient {
+            Some(gt) => (trial.terms, gt),
+            None => functional.gradient(positions),
         };
-        for &factor in refine {
-            let mut moved_any = false;
-            for _ in 0..30 {
-                match try_nu(best_nu * factor, &mut factorizer, &mut report) {
-                    Some((t, x)) if t.f < best_t.f => {
-                        best_nu *= factor;
-                        best_t = t;
-                        best_x = x;
-                        moved_any = true;
-                    }
-                    _ => break,
-                }
-            }
-            if moved_any {
-                break;
-            }
-        }
-        if best_nu.is_finite() {
-            last_nu = Some(best_nu);
-        }
-        *positions = best_x;
-        let (t, gt) = functional.gradient(positions);
-        debug_assert!((t.f - best_t.f).abs() <= ROUND_OFF * t.f.abs().max(1.0));
-        terms = t;
-        g = gt;
-        report.iterations.push(Iteration {
+        run.report.iterations.push(Iteration {
             terms,
             gradient_norm: norm(&g),
-            step: if best_nu.is_finite() {
-                StepKind::LevenbergMarquardt
-            } else {
-                StepKind::SteepestDescent
-            },
-            nu: best_nu.is_finite().then_some(best_nu),
+            step: kind,
+            nu,
         });
-        observe(report.iterations.last().expect("just pushed"));
+        observe(run.report.iterations.last().expect("just pushed"));
     }
+    let mut report = run.report;
     if !report.converged {
         report.converged = norm(&g) <= options.relative_gradient * g0;
     }
