@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use crate::error::Error;
-use crate::fair::{optimize, tubes, EndCaps, FairOptions, RepresentationOptions};
+use crate::fair::{optimize, refine_surface, tubes, EndCaps, FairOptions, RepresentationOptions};
 use crate::mesh::io::{read, write, WriteOptions};
 
 #[derive(clap::Args, Debug)]
@@ -127,16 +127,20 @@ pub fn run(args: &FairArgs) -> crate::Result<()> {
 
 #[derive(clap::Args, Debug)]
 pub struct TubesArgs {
-    /// Number of tubes (3).
+    /// Number of tubes (3 to 64); the two saddle vertices have valence 2n.
     #[arg(long, default_value_t = 3)]
     pub n: u32,
     /// Quads along each side of a disc sector; tube ends have 4 m boundary vertices
-    /// (4: the author's 359-vertex mesh; 8 with 2 rings: 1007 vertices).
+    /// (4: the author's 359-vertex mesh; 8 with 2 rings: 1007 vertices, with --n 5: 1677).
     #[arg(long, default_value_t = 4)]
     pub size: u32,
     /// Rings of quads per tube.
     #[arg(long, default_value_t = 3)]
     pub rings: u32,
+    /// Refine the surface this many times as the author does (Catmull–Clark, then the
+    /// boundary ring dropped): 359 → 1295 → 4895 vertices, 1007 → 3743 → 14399.
+    #[arg(long, default_value_t = 0)]
+    pub refine: u32,
     /// The mesh to write.
     #[arg(short, long)]
     pub output: PathBuf,
@@ -144,12 +148,13 @@ pub struct TubesArgs {
 
 /// `surfkit gen tubes`.
 pub fn run_tubes(args: &TubesArgs) -> crate::Result<()> {
-    let mesh = tubes(args.n, args.size, args.rings)?;
+    let mesh = refine_surface(&tubes(args.n, args.size, args.rings)?, args.refine)?;
     write(&args.output, &mesh, &WriteOptions::default())?;
     println!(
-        "{}: junction of {} tubes, {} vertices, {} quads",
+        "{}: junction of {} tubes, {} refinements, {} vertices, {} quads",
         args.output.display(),
         args.n,
+        args.refine,
         mesh.vertex_count(),
         mesh.face_count()
     );

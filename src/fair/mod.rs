@@ -4,6 +4,8 @@
 //! and Q a regularization of the parameterization, by Newton's method with the exact
 //! Hessian and Levenberg–Marquardt safeguards (§5).
 //!
+//! - [`tubes`]: the paper's junctions of tubes; [`refine_surface`]: the author's refinement
+//!   (Catmull–Clark losing the boundary ring each level), which gives his sizes.
 //! - [`prepare`]: refine until the paper's conditions hold (§2); χ checked.
 //! - [`Representation`] / [`PatchRepresentation`]: control vertices → derivatives at
 //!   quadrature points, from OpenSubdiv's B-spline patches (see [`EndCaps`] for how the
@@ -19,6 +21,7 @@ mod prepare;
 mod quadrature;
 mod representation;
 mod second_order;
+mod surface_refine;
 mod topology;
 mod tubes;
 
@@ -32,8 +35,9 @@ pub use representation::{
     EndCaps, PatchRepresentation, QuadraturePoint, Representation, RepresentationOptions,
     DERIVATIVES,
 };
+pub use surface_refine::{drop_boundary_ring, refine_surface};
 pub use topology::{condition_violation, MeshTopology};
-pub use tubes::tubes;
+pub use tubes::{tubes, MAX_TUBES};
 
 use crate::error::{Error, Result};
 use crate::mesh::PolygonMesh;
