@@ -14,6 +14,7 @@
 //! - [`optimize`]: the whole method on a mesh; topology and vertex order are kept.
 
 mod cholesky;
+mod curvature_map;
 mod disc;
 mod functional;
 mod optimize;
@@ -21,11 +22,14 @@ mod prepare;
 mod quadrature;
 mod representation;
 mod second_order;
+mod selection;
+mod statistics;
 mod surface_refine;
 mod topology;
 mod tubes;
 
 pub use cholesky::{Factor, Factorizer};
+pub use curvature_map::curvature_samples;
 pub use disc::sector_disc;
 pub use functional::{BlockHessian, Functional, Terms};
 pub use optimize::{newton, newton_observed, Iteration, NewtonOptions, NewtonReport, StepKind};
@@ -35,6 +39,8 @@ pub use representation::{
     EndCaps, PatchRepresentation, QuadraturePoint, Representation, RepresentationOptions,
     DERIVATIVES,
 };
+pub use selection::{read_fixed, VCG_SELECTED};
+pub use statistics::{shape_change, ShapeChange};
 pub use surface_refine::{drop_boundary_ring, refine_surface};
 pub use topology::{condition_violation, MeshTopology};
 pub use tubes::{tubes, MAX_TUBES};
