@@ -377,3 +377,38 @@ fn fair_selection_properties_and_errors() {
         "{stderr}"
     );
 }
+
+#[test]
+fn demo_shows_fairing_of_the_three_tube_junction() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = surfkit()
+        .args(["demo", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let text = String::from_utf8_lossy(&run.stdout);
+    let fair = dir.path().join("fair");
+    for name in [
+        "tubes.obj",
+        "tubes_faired.obj",
+        "tubes_faired_samples.ply",
+        "curvature_before.png",
+        "curvature_after.png",
+    ] {
+        assert!(fair.join(name).is_file(), "{name} missing");
+        assert!(text.contains(name), "{name} not listed:\n{text}");
+    }
+    let mesh = tubes(3, 4, 3).unwrap();
+    let faired = read(&fair.join("tubes_faired.obj")).unwrap();
+    assert_eq!(faired.face_indices, mesh.face_indices);
+    assert_ne!(faired.positions, mesh.positions);
+    assert!(
+        text.contains("S = ∫|∇H|²") && text.contains("std H"),
+        "{text}"
+    );
+}

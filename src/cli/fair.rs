@@ -244,8 +244,8 @@ pub fn run(args: &FairArgs) -> crate::Result<()> {
     } else {
         let n = &report.newton;
         println!(
-            "{} → {}: {} vertices ({} free, {} refinements), S {:.6e} → {:.6e} ({:.2}× \
-             smaller), std H {:.4e} → {:.4e}, F {:.6e} → {:.6e}, |g| {:.3e} → {:.3e}, {} \
+            "{} → {}: {} vertices ({} free, {} refinements), S {:.6e} → {:.6e} (before/after \
+             {:.2}), std H {:.4e} → {:.4e}, F {:.6e} → {:.6e}, |g| {:.3e} → {:.3e}, {} \
              iterations, {} Hessians, {seconds:.1} s{}",
             args.input.display(),
             args.output.display(),
