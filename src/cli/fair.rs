@@ -2,11 +2,19 @@
 //! a quad mesh (the work is `fair::optimize`), and `surfkit gen tubes` (`fair::tubes`), the
 //! paper's junctions of tubes. Argument parsing and printing only.
 
-use std::path::PathBuf;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::error::Error;
-use crate::fair::{optimize, tubes, EndCaps, FairOptions, RepresentationOptions};
+use crate::fair::{
+    curvature_samples, optimize_observed, read_fixed, refine_surface, shape_change, tubes, EndCaps,
+    FairOptions, FairReport, Iteration, RepresentationOptions, ShapeChange,
+};
 use crate::mesh::io::{read, write, WriteOptions};
+use crate::mesh::PolygonMesh;
+use crate::report::{color_range, render_png, RenderOptions};
 
 #[derive(clap::Args, Debug)]
 pub struct FairArgs {
@@ -15,7 +23,9 @@ pub struct FairArgs {
     /// The optimized control mesh; same faces and vertex order as the (prepared) input.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// A text file of vertex ids (0-based, whitespace separated) to hold fixed.
+    /// Vertices to hold fixed: a text file of 0-based ids, or a PLY of the mesh with a
+    /// selection (vertex property `flags` with MeshLab's selected bit 0x20, or `selected`
+    /// nonzero, or `quality` > 0).
     #[arg(long)]
     pub fixed: Option<PathBuf>,
     /// Most uniform refinements to meet the paper's conditions (0: input must meet them).
@@ -36,40 +46,131 @@ pub struct FairArgs {
     /// Stop when the gradient norm falls below this fraction of its initial value.
     #[arg(long, default_value_t = 1e-8)]
     pub tolerance: f64,
+    /// Limit samples of the optimized surface (.ply: mean curvature as vertex quality).
+    #[arg(long)]
+    pub samples: Option<PathBuf>,
+    /// Grid cells along each side of a face for --samples and --figures.
+    #[arg(long, default_value_t = 4)]
+    pub sample_density: u32,
+    /// Folder for before/after curvature-map pictures (PNG, one colour scale for both).
+    #[arg(long)]
+    pub figures: Option<PathBuf>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
     /// Print a JSON report with the per-iteration log (F, S, Q, gradient norm, step kind).
     #[arg(long)]
     pub json: bool,
 }
 
-fn read_ids(path: &PathBuf) -> crate::Result<Vec<u32>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    text.split_whitespace()
-        .enumerate()
-        .map(|(i, w)| {
-            w.parse::<u32>().map_err(|_| {
-                Error::InvalidInput(format!(
-                    "{}: entry {} ({w:?}) is not a vertex id",
-                    path.display(),
-                    i + 1
-                ))
-            })
-        })
-        .collect()
+/// The files [`write_results`] wrote, for the summary.
+pub(super) struct Written {
+    pub samples: Option<PathBuf>,
+    pub figures: Vec<PathBuf>,
+    /// Colour range of the figures (mean curvature).
+    pub range: Option<(f64, f64)>,
 }
 
-pub fn run(args: &FairArgs) -> crate::Result<()> {
-    if args
-        .input
-        .canonicalize()
-        .ok()
-        .is_some_and(|a| args.output.canonicalize().ok() == Some(a))
-    {
-        return Err(Error::InvalidInput(format!(
-            "{}: refusing to write over the input file",
-            args.output.display()
-        )));
+/// Limit samples of the optimized surface and before/after curvature maps with one colour
+/// scale, as asked.
+pub(super) fn write_results(
+    before: &PolygonMesh,
+    after: &PolygonMesh,
+    samples: Option<&Path>,
+    figures: Option<&Path>,
+    density: u32,
+    isolation: u32,
+) -> crate::Result<Written> {
+    let mut written = Written {
+        samples: None,
+        figures: Vec::new(),
+        range: None,
+    };
+    if samples.is_none() && figures.is_none() {
+        return Ok(written);
     }
-    let mesh = read(&args.input)?;
+    let after_samples = curvature_samples(after, density, isolation)?.mesh;
+    if let Some(path) = samples {
+        write(path, &after_samples, &WriteOptions::default())?;
+        written.samples = Some(path.to_path_buf());
+    }
+    if let Some(dir) = figures {
+        let before_samples = curvature_samples(before, density, isolation)?.mesh;
+        let all: Vec<f64> = [&before_samples, &after_samples]
+            .iter()
+            .flat_map(|m| m.quality.iter().flatten().copied())
+            .collect();
+        let range = color_range(&all);
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        let options = RenderOptions {
+            range: Some(range),
+            ..RenderOptions::default()
+        };
+        for (name, mesh) in [
+            ("curvature_before.png", &before_samples),
+            ("curvature_after.png", &after_samples),
+        ] {
+            let path = dir.join(name);
+            render_png(mesh, &path, &options)?;
+            written.figures.push(path);
+        }
+        written.range = Some(range);
+    }
+    Ok(written)
+}
+
+/// A progress bar on standard error towards the gradient tolerance: its position is
+/// log(|g|/|g0|) / log(tolerance); hidden unless `show` and stderr is a terminal.
+pub(super) struct Progress {
+    bar: ProgressBar,
+    tolerance: f64,
+    iterations: usize,
+}
+
+impl Progress {
+    const STEPS: u64 = 1000;
+
+    pub fn new(show: bool, tolerance: f64) -> Self {
+        let bar = if show && std::io::stderr().is_terminal() {
+            let bar = ProgressBar::new(Self::STEPS);
+            if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {msg}") {
+                bar.set_style(style.progress_chars("=> "));
+            }
+            bar.set_message(format!("optimizing (|g|/|g0| → {tolerance:.0e})"));
+            bar
+        } else {
+            ProgressBar::hidden()
+        };
+        Progress {
+            bar,
+            tolerance,
+            iterations: 0,
+        }
+    }
+
+    /// For `optimize_observed`: one Newton iteration done.
+    pub fn observe(&mut self, it: &Iteration, g0: f64) {
+        self.iterations += 1;
+        let ratio = if g0 > 0.0 { it.gradient_norm / g0 } else { 0.0 };
+        let done = if ratio > 0.0 && self.tolerance < 1.0 {
+            (ratio.ln() / self.tolerance.ln()).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        self.bar.set_position((done * Self::STEPS as f64) as u64);
+        self.bar.set_message(format!(
+            "iteration {}: F {:.6e}, |g|/|g0| {ratio:.2e} → {:.0e}",
+            self.iterations, it.terms.f, self.tolerance
+        ));
+    }
+
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+/// The options of `surfkit fair` (and the demo, which uses the defaults).
+fn options(args: &FairArgs) -> FairOptions {
     let mut options = FairOptions {
         representation: RepresentationOptions {
             nodes: args.nodes,
@@ -86,33 +187,76 @@ pub fn run(args: &FairArgs) -> crate::Result<()> {
         ..FairOptions::default()
     };
     options.newton.relative_gradient = args.tolerance;
-    if let Some(path) = &args.fixed {
-        options.fixed = read_ids(path)?;
-    }
+    options
+}
+
+/// Optimizes with a progress bar and measures the change of S and H: the shared core of
+/// `surfkit fair` and `surfkit demo`.
+pub(super) fn optimize_with_progress(
+    mesh: &PolygonMesh,
+    options: &FairOptions,
+    show_progress: bool,
+) -> crate::Result<(PolygonMesh, FairReport, ShapeChange, f64)> {
+    let mut progress = Progress::new(show_progress, options.newton.relative_gradient);
     let start = std::time::Instant::now();
-    let (out, report) = optimize(&mesh, &options)?;
+    let result = optimize_observed(mesh, options, &mut |it, g0| progress.observe(it, g0));
     let seconds = start.elapsed().as_secs_f64();
+    progress.finish();
+    let (out, report) = result?;
+    let change = shape_change(mesh, &out, options, &report)?;
+    Ok((out, report, change, seconds))
+}
+
+pub fn run(args: &FairArgs) -> crate::Result<()> {
+    for target in [Some(&args.output), args.samples.as_ref()]
+        .into_iter()
+        .flatten()
+    {
+        super::refuse_overwrite(&args.input, target)?;
+    }
+    let mesh = read(&args.input)?;
+    let mut options = options(args);
+    if let Some(path) = &args.fixed {
+        options.fixed = read_fixed(path, mesh.vertex_count())?;
+    }
+    let (out, report, change, seconds) =
+        optimize_with_progress(&mesh, &options, !args.quiet && !args.json)?;
     write(&args.output, &out, &WriteOptions::default())?;
+    let (before, _) = crate::fair::prepare(&mesh, report.refinements)?;
+    let written = write_results(
+        &before,
+        &out,
+        args.samples.as_deref(),
+        args.figures.as_deref(),
+        args.sample_density,
+        args.isolation,
+    )?;
     if args.json {
         let json = serde_json::json!({
             "input": args.input, "output": args.output, "seconds": seconds,
+            "fixed_given": options.fixed.len(),
+            "shape": change,
+            "samples": written.samples, "figures": written.figures,
+            "figure_range": written.range,
             "report": report,
         });
-        let text = serde_json::to_string_pretty(&json)
-            .map_err(|e| Error::InvalidInput(format!("report cannot be written as JSON: {e}")))?;
-        println!("{text}");
+        super::print_json(&json)?;
     } else {
         let n = &report.newton;
         println!(
-            "{} → {}: {} vertices ({} free, {} refinements), S {:.6e} → {:.6e}, F {:.6e} → \
-             {:.6e}, |g| {:.3e} → {:.3e}, {} iterations, {} Hessians, {seconds:.1} s{}",
+            "{} → {}: {} vertices ({} free, {} refinements), S {:.6e} → {:.6e} (before/after \
+             {:.2}), std H {:.4e} → {:.4e}, F {:.6e} → {:.6e}, |g| {:.3e} → {:.3e}, {} \
+             iterations, {} Hessians, {seconds:.1} s{}",
             args.input.display(),
             args.output.display(),
             report.vertices,
             report.free_vertices,
             report.refinements,
-            n.initial.s,
-            report.final_terms.s,
+            change.s_before,
+            change.s_after,
+            change.s_before / change.s_after,
+            change.std_h_before,
+            change.std_h_after,
             n.initial.f,
             report.final_terms.f,
             n.initial_gradient_norm,
@@ -121,22 +265,35 @@ pub fn run(args: &FairArgs) -> crate::Result<()> {
             n.hessian_evaluations,
             if n.converged { "" } else { " (not converged)" }
         );
+        if let Some(path) = &written.samples {
+            println!(
+                "  {}  (limit samples, mean curvature as quality)",
+                path.display()
+            );
+        }
+        for path in &written.figures {
+            println!("  {}  (curvature map)", path.display());
+        }
     }
     Ok(())
 }
 
 #[derive(clap::Args, Debug)]
 pub struct TubesArgs {
-    /// Number of tubes (3).
+    /// Number of tubes (3 to 64); the two saddle vertices have valence 2n.
     #[arg(long, default_value_t = 3)]
     pub n: u32,
     /// Quads along each side of a disc sector; tube ends have 4 m boundary vertices
-    /// (4: the author's 359-vertex mesh; 8 with 2 rings: 1007 vertices).
+    /// (4: the author's 359-vertex mesh; 8 with 2 rings: 1007 vertices, with --n 5: 1677).
     #[arg(long, default_value_t = 4)]
     pub size: u32,
     /// Rings of quads per tube.
     #[arg(long, default_value_t = 3)]
     pub rings: u32,
+    /// Refine the surface this many times as the author does (Catmull–Clark, then the
+    /// boundary ring dropped): 359 → 1295 → 4895 vertices, 1007 → 3743 → 14399.
+    #[arg(long, default_value_t = 0)]
+    pub refine: u32,
     /// The mesh to write.
     #[arg(short, long)]
     pub output: PathBuf,
@@ -144,12 +301,13 @@ pub struct TubesArgs {
 
 /// `surfkit gen tubes`.
 pub fn run_tubes(args: &TubesArgs) -> crate::Result<()> {
-    let mesh = tubes(args.n, args.size, args.rings)?;
+    let mesh = refine_surface(&tubes(args.n, args.size, args.rings)?, args.refine)?;
     write(&args.output, &mesh, &WriteOptions::default())?;
     println!(
-        "{}: junction of {} tubes, {} vertices, {} quads",
+        "{}: junction of {} tubes, {} refinements, {} vertices, {} quads",
         args.output.display(),
         args.n,
+        args.refine,
         mesh.vertex_count(),
         mesh.face_count()
     );

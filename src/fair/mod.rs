@@ -4,6 +4,8 @@
 //! and Q a regularization of the parameterization, by Newton's method with the exact
 //! Hessian and Levenberg–Marquardt safeguards (§5).
 //!
+//! - [`tubes`]: the paper's junctions of tubes; [`refine_surface`]: the author's refinement
+//!   (Catmull–Clark losing the boundary ring each level), which gives his sizes.
 //! - [`prepare`]: refine until the paper's conditions hold (§2); χ checked.
 //! - [`Representation`] / [`PatchRepresentation`]: control vertices → derivatives at
 //!   quadrature points, from OpenSubdiv's B-spline patches (see [`EndCaps`] for how the
@@ -12,6 +14,7 @@
 //! - [`optimize`]: the whole method on a mesh; topology and vertex order are kept.
 
 mod cholesky;
+mod curvature_map;
 mod disc;
 mod functional;
 mod optimize;
@@ -20,11 +23,15 @@ mod q_density;
 mod quadrature;
 mod representation;
 mod s_density;
+mod selection;
+mod statistics;
+mod surface_refine;
 mod tangent;
 mod topology;
 mod tubes;
 
 pub use cholesky::{Factor, Factorizer};
+pub use curvature_map::curvature_samples;
 pub use disc::sector_disc;
 pub use functional::{BlockHessian, Functional, Terms};
 pub use optimize::{newton, newton_observed, Iteration, NewtonOptions, NewtonReport, StepKind};
@@ -34,8 +41,11 @@ pub use representation::{
     EndCaps, PatchRepresentation, QuadraturePoint, Representation, RepresentationOptions,
     DERIVATIVES,
 };
+pub use selection::{read_fixed, VCG_SELECTED};
+pub use statistics::{shape_change, ShapeChange};
+pub use surface_refine::{drop_boundary_ring, refine_surface};
 pub use topology::{condition_violation, MeshTopology};
-pub use tubes::tubes;
+pub use tubes::{tubes, MAX_TUBES};
 
 use crate::error::{Error, Result};
 use crate::mesh::PolygonMesh;

@@ -1,14 +1,24 @@
-//! Junctions of three tubes like the paper's figures 7 and 9 (§6): genus 0, one boundary
-//! loop per tube end, quads only, two special vertices of valence 6 (= n + 3 for n = 3
-//! tubes) at the saddles of the junction.
+//! Junctions of n ≥ 3 tubes like the paper's figures 7, 9 and 10 (§6): genus 0, one
+//! boundary loop per tube end, quads only, two special vertices of valence 2n at the
+//! saddles of the junction, every other internal vertex of valence 4 and every boundary
+//! vertex of valence 3.
 //!
-//! Construction: a top and a bottom disc of 6 sectors (each an m × m grid) around the two
-//! special vertices; their boundaries alternate three seams (glued top to bottom, in the
-//! plane z = 0 between neighbouring tubes) and three openings; each opening (a loop of 4m
-//! vertices) continues as a tube of `rings` rings. With m = 4 and 3 rings this is the
-//! author's mesh (359 vertices, 336 quads, 16 boundary vertices per tube end); m = 8 and
-//! 2 rings gives the 1007-vertex mesh of figure 7 (719 vertices at least 3 edges from the
-//! boundary).
+//! Construction: a top and a bottom disc of 2n sectors (each an m × m grid) around the two
+//! special vertices; their boundaries alternate n seams (glued top to bottom, in the
+//! plane z = 0 between neighbouring tubes) and n openings; each opening (a loop of 4m
+//! vertices) continues as a tube of `rings` rings, the tubes' axes spread evenly in the
+//! plane z = 0. With n = 3, m = 4 and 3 rings this is the author's mesh (359 vertices, 336
+//! quads, 16 boundary vertices per tube end); m = 8 and 2 rings gives the 1007-vertex mesh
+//! of figure 7 (719 vertices at least 3 edges from the boundary), and n = 5, m = 8, 2 rings
+//! the 1677-vertex mesh of Table 1 (figure 10).
+//!
+//! Why valence 2n and not the "n + 3" (which agrees only for n = 3): for a quad
+//! mesh, counting corners gives Σ_internal (4 − d) + Σ_boundary (3 − d) = 4χ = 4 (2 − n).
+//! With all boundary vertices of valence 3 and two special vertices of valence k, this is
+//! 2 (4 − k) = 8 − 4n, so k = 2n. Valence n + 3 for n = 5 would need 2n − 6 = 4 boundary
+//! vertices of valence 4 (or more special vertices). The valence-10 junction is the
+//! paper's: m = 8, 2 rings gives exactly Table 1's n_V = 1677, and two refinements of the
+//! surface ([`crate::fair::refine_surface`]) exactly its 6237 and 23997.
 
 use std::collections::HashSet;
 use std::f64::consts::PI;
@@ -18,19 +28,28 @@ use crate::mesh::PolygonMesh;
 
 /// Tube radius; the other lengths scale with it.
 const RADIUS: f64 = 1.0;
-/// Distance of an opening's centre from the junction's centre.
+/// Distance of an opening's centre from the junction's centre for three tubes; more tubes
+/// move out so that neighbouring openings keep a gap (see [`opening_distance`]).
 const OPENING: f64 = 1.6;
+/// Most tubes accepted: beyond this the sectors are slivers and the picture is a hedgehog.
+pub const MAX_TUBES: u32 = 64;
 
-/// The three-tube junction with `m` quads along each sector side and `rings` rings per
+/// Distance of the openings' centres from the junction's centre: at least [`OPENING`], and
+/// enough that neighbouring openings (radius [`RADIUS`], angle 2π/n apart) are separated by
+/// a quarter of their diameter.
+fn opening_distance(n: u32) -> f64 {
+    OPENING.max(1.25 * RADIUS / (PI / f64::from(n)).sin())
+}
+
+/// The junction of `n` tubes with `m` quads along each sector side and `rings` rings per
 /// tube (the tube ends have `4 m` boundary vertices).
 ///
 /// # Errors
-/// [`Error::InvalidInput`] unless `n == 3` (five tubes are not built yet), `m ≥ 1` and
-/// `rings ≥ 1`.
+/// [`Error::InvalidInput`] unless `3 ≤ n ≤ MAX_TUBES`, `m ≥ 1` and `rings ≥ 1`.
 pub fn tubes(n: u32, m: u32, rings: u32) -> Result<PolygonMesh> {
-    if n != 3 {
+    if !(3..=MAX_TUBES).contains(&n) {
         return Err(Error::InvalidInput(format!(
-            "junctions of {n} tubes are not available; only n = 3"
+            "a junction of {n} tubes: the number of tubes must be between 3 and {MAX_TUBES}"
         )));
     }
     if m == 0 || rings == 0 {
@@ -38,7 +57,9 @@ pub fn tubes(n: u32, m: u32, rings: u32) -> Result<PolygonMesh> {
             "a tube junction needs m ≥ 1 and rings ≥ 1 (got {m}, {rings})"
         )));
     }
-    let k = 6u32;
+    let k = 2 * n;
+    let opening = opening_distance(n);
+    let spread = 360.0 / f64::from(n);
     let per_disc = (1 + k * m + k * m * m) as usize;
     // Disc-local ids as in `sector_disc`.
     let local = |s: u32, i: u32, j: u32| -> u32 {
@@ -63,7 +84,7 @@ pub fn tubes(n: u32, m: u32, rings: u32) -> Result<PolygonMesh> {
     let b = boundary.len(); // 12 m
                             // Boundary position of corner C_s is 2 m s + m, of spoke end S_s is 2 m s.
     let is_seam = |pos: usize| -> bool {
-        // Seams C0–S1–C1, C2–S3–C3, C4–S5–C5 cover [2m s + m, 2m (s + 2) + m] for even s,
+        // Seams C0–S1–C1, C2–S3–C3, … cover [2m s + m, 2m (s + 2) + m] for even s,
         // i.e. positions whose offset from C_s (s even) is ≤ 2m.
         let mu = m as usize;
         let off = (pos + b - mu) % b; // offset from C0
@@ -108,11 +129,11 @@ pub fn tubes(n: u32, m: u32, rings: u32) -> Result<PolygonMesh> {
         .flat_map(|f| (0..4).map(move |c| (f[c], f[(c + 1) % 4])))
         .collect();
     let around = (4 * m) as usize;
-    let mut positions = vec![[0.0; 3]; disc_vertices + 3 * around * rings as usize];
+    let mut positions = vec![[0.0; 3]; disc_vertices + n as usize * around * rings as usize];
     let mut fixed = vec![false; disc_vertices];
     let dir = |deg: f64| [deg.to_radians().cos(), deg.to_radians().sin()];
     let step = 2.0 * PI * RADIUS / around as f64;
-    for t in 0..3u32 {
+    for t in 0..n {
         // Opening around spoke end S_{2t}, from C_{2t−1} over the top to C_{2t}, back
         // under the bottom.
         let sp = (2 * t) as usize * 2 * m as usize;
@@ -126,7 +147,7 @@ pub fn tubes(n: u32, m: u32, rings: u32) -> Result<PolygonMesh> {
                 .rev()
                 .map(|&v| bottom[v as usize]),
         );
-        let a = dir(120.0 * f64::from(t));
+        let a = dir(spread * f64::from(t));
         let cw = [a[1], -a[0]];
         let circle = |dist: f64, idx: usize| -> [f64; 3] {
             let th = 2.0 * PI * idx as f64 / around as f64;
@@ -137,7 +158,7 @@ pub fn tubes(n: u32, m: u32, rings: u32) -> Result<PolygonMesh> {
             ]
         };
         for (idx, &v) in loop_ids.iter().enumerate() {
-            positions[v as usize] = circle(OPENING, idx);
+            positions[v as usize] = circle(opening, idx);
             fixed[v as usize] = true;
         }
         let reversed = directed.contains(&(loop_ids[0], loop_ids[1]));
@@ -146,7 +167,7 @@ pub fn tubes(n: u32, m: u32, rings: u32) -> Result<PolygonMesh> {
             let base = disc_vertices + (t * rings + r - 1) as usize * around;
             let ring: Vec<u32> = (0..around).map(|i| (base + i) as u32).collect();
             for (idx, &v) in ring.iter().enumerate() {
-                positions[v as usize] = circle(OPENING + f64::from(r) * step, idx);
+                positions[v as usize] = circle(opening + f64::from(r) * step, idx);
             }
             for i in 0..around {
                 let (p0, p1) = (prev[i], prev[(i + 1) % around]);
@@ -162,15 +183,18 @@ pub fn tubes(n: u32, m: u32, rings: u32) -> Result<PolygonMesh> {
         // Seam from C_{2t} (this opening's counter-clockwise side) to C_{2t+1} (the next
         // opening's clockwise side) in the plane z = 0, bent towards the centre.
         let c_start = boundary[(sp + m as usize) % b];
-        let start = circle(OPENING, 2 * m as usize);
-        let next_a = dir(120.0 * f64::from(t + 1));
+        let start = circle(opening, 2 * m as usize);
+        let next_a = dir(spread * f64::from(t + 1));
         let end = [
-            OPENING * next_a[0] + RADIUS * next_a[1],
-            OPENING * next_a[1] - RADIUS * next_a[0],
+            opening * next_a[0] + RADIUS * next_a[1],
+            opening * next_a[1] - RADIUS * next_a[0],
             0.0,
         ];
-        let mid = dir(120.0 * f64::from(t) + 60.0);
-        let ctrl = [RADIUS * mid[0], RADIUS * mid[1], 0.0];
+        let mid = dir(spread * (f64::from(t) + 0.5));
+        // The seam bends towards the centre: its control point lies 0.6 radii inside the
+        // openings' circle (for three tubes at distance 1 = RADIUS).
+        let inner = opening - 0.6 * RADIUS;
+        let ctrl = [inner * mid[0], inner * mid[1], 0.0];
         let first = (sp + m as usize) % b;
         debug_assert_eq!(boundary[first], c_start);
         for o in 0..=2 * m as usize {

@@ -20,7 +20,7 @@ use crate::mesh::PolygonMesh;
 
 pub use atomic::write_atomically;
 pub use face_check::degeneracy;
-pub use ply::PlyEncoding;
+pub use ply::{read_vertex_property, PlyEncoding};
 
 /// The mesh file formats surfkit reads and writes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]

@@ -783,6 +783,98 @@ fn label_names(comments: &[String], kind: &str) -> Vec<String> {
     names.into_iter().map(|(_, n)| n).collect()
 }
 
+/// The values of one scalar property of the `vertex` element: the first of `names` the
+/// header declares, with its name, or `None` when it declares none of them. For per-vertex
+/// data [`parse`] does not keep, such as MeshLab's selection in `flags`. Decodes the
+/// elements up to the vertex element, one instance at a time (no fast path: selections are
+/// small files).
+///
+/// # Errors
+/// [`Error::Parse`] naming the line (ASCII) or element and byte offset (binary) of a
+/// malformed or truncated instance, or the header.
+pub fn read_vertex_property(
+    path: &Path,
+    bytes: &[u8],
+    names: &[&str],
+) -> Result<Option<(String, Vec<f64>)>> {
+    let header = parse_header(path, bytes)?;
+    let vertex = header
+        .elements
+        .iter()
+        .position(|e| e.name == "vertex")
+        .ok_or_else(|| Error::parse(path, Location::Header, "no \"vertex\" element"))?;
+    let element = &header.elements[vertex];
+    let Some(k) = element
+        .find(names)
+        .filter(|&k| matches!(element.properties[k].kind, Kind::Scalar(_)))
+    else {
+        return Ok(None);
+    };
+    let mut lines = Lines::new(&bytes[header.body..]);
+    let line_offset = header.body_line - 1;
+    let mut binary = BinaryValues {
+        data: bytes,
+        pos: header.body,
+        big_endian: header.encoding == PlyEncoding::BinaryBigEndian,
+    };
+    let mut values = Vec::new();
+    for (ei, element) in header.elements.iter().enumerate().take(vertex + 1) {
+        if element.properties.is_empty() {
+            continue;
+        }
+        let mut slots = vec![0.0; element.properties.len()];
+        let mut lists = vec![Vec::new(); element.properties.len()];
+        for index in 0..element.count {
+            let byte_offset = binary.pos;
+            let (read, line) = if header.encoding == PlyEncoding::Ascii {
+                let Some((n, line)) = lines.by_ref().find(|(_, l)| !l.trim_ascii().is_empty())
+                else {
+                    return Err(Error::parse(
+                        path,
+                        Location::File,
+                        format!(
+                            "the file ends after {index} of the {} {} elements the header declares",
+                            element.count, element.name
+                        ),
+                    ));
+                };
+                let mut src = AsciiValues {
+                    tokens: tokens(line),
+                };
+                (
+                    read_instance(element, &mut src, &mut slots, &mut lists),
+                    Some(n + line_offset),
+                )
+            } else {
+                (
+                    read_instance(element, &mut binary, &mut slots, &mut lists),
+                    None,
+                )
+            };
+            read.map_err(|m| match line {
+                Some(l) => Error::parse(
+                    path,
+                    Location::Line(l),
+                    format!("{} {index}: {m}", element.name),
+                ),
+                None => Error::parse(
+                    path,
+                    Location::Element {
+                        kind: element.name.clone(),
+                        index,
+                        byte_offset,
+                    },
+                    m,
+                ),
+            })?;
+            if ei == vertex {
+                values.push(slots[k]);
+            }
+        }
+    }
+    Ok(Some((element.properties[k].name.clone(), values)))
+}
+
 /// Writes PLY: double positions, `double quality`, `uchar` RGBA, corner lists, MeshLab's
 /// wedge `texcoord`, and surfkit's `object_id`/`group_id` with names in comments.
 pub fn write(

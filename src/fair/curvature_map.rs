@@ -1,0 +1,32 @@
+//! Curvature maps of the surface the optimizer shapes: limit samples with mean curvature as
+//! per-vertex quality (MeshLab colours them), of the internal faces only — as in the paper
+//! (§2) the boundary faces carry no surface, their limit depends on a boundary rule the
+//! method does not use, and their vertices are fixed anyway.
+
+use crate::error::Result;
+use crate::mesh::PolygonMesh;
+use crate::subdiv::{
+    limit_surface, sample_limit, BoundaryInterpolation, LimitSamples, PatchOptions, SampleOptions,
+    SubdivOptions,
+};
+
+/// Limit samples of `mesh`'s Catmull–Clark surface on a `samples` × `samples` grid per
+/// internal face, mean curvature as quality (see [`sample_limit`]), with OpenSubdiv's
+/// adaptive isolation `isolation` around extraordinary vertices.
+///
+/// # Errors
+/// Those of [`limit_surface`] and [`sample_limit`] (e.g. `samples` out of range).
+pub fn curvature_samples(mesh: &PolygonMesh, samples: u32, isolation: u32) -> Result<LimitSamples> {
+    let options = SubdivOptions {
+        boundary: BoundaryInterpolation::None,
+        ..Default::default()
+    };
+    let surface = limit_surface(
+        mesh,
+        &options,
+        &PatchOptions {
+            max_isolation: isolation,
+        },
+    )?;
+    sample_limit(&surface, &SampleOptions { samples })
+}

@@ -1,0 +1,63 @@
+//! What the optimization changed, in the paper's terms: S (eq. 2–3) and the spread of the
+//! mean curvature H before and after, measured on the same quadrature as the optimizer
+//! (one source of truth for "the mean curvature is more even"), for summaries and reports.
+
+use crate::error::{Error, Result};
+use crate::fair::{
+    fixed_vertices, prepare, FairOptions, FairReport, Functional, MeshTopology, PatchRepresentation,
+};
+use crate::mesh::PolygonMesh;
+
+/// S and the area-weighted mean and standard deviation of H, before and after.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct ShapeChange {
+    pub s_before: f64,
+    pub s_after: f64,
+    pub mean_h_before: f64,
+    pub mean_h_after: f64,
+    pub std_h_before: f64,
+    pub std_h_after: f64,
+}
+
+/// S and the statistics of H (area-weighted over the quadrature points where S is
+/// integrated, see [`Functional::mean_curvature_statistics`]) of `input` (prepared as
+/// [`crate::fair::optimize`] prepared it: `report.refinements` levels) and of `optimized`,
+/// the mesh [`crate::fair::optimize`] returned for it with `options`.
+///
+/// # Errors
+/// [`Error::InvalidInput`] if `optimized` does not have the prepared input's vertex count;
+/// errors of [`prepare`] and of the representation.
+pub fn shape_change(
+    input: &PolygonMesh,
+    optimized: &PolygonMesh,
+    options: &FairOptions,
+    report: &FairReport,
+) -> Result<ShapeChange> {
+    let (prepared, _) = prepare(input, report.refinements)?;
+    if prepared.vertex_count() != optimized.vertex_count() {
+        return Err(Error::InvalidInput(format!(
+            "the optimized mesh has {} vertices, the prepared input {}",
+            optimized.vertex_count(),
+            prepared.vertex_count()
+        )));
+    }
+    let topo = MeshTopology::new(&prepared)?;
+    let fixed = fixed_vertices(&topo, options.boundary_rings, &options.fixed)?;
+    let mut special = vec![false; prepared.vertex_count()];
+    for v in topo.special_vertices() {
+        special[v as usize] = true;
+    }
+    let rep =
+        PatchRepresentation::new(&prepared, &topo.boundary, &special, &options.representation)?;
+    let functional = Functional::new(&rep, &fixed, report.c);
+    let (mean_h_before, std_h_before) = functional.mean_curvature_statistics(&prepared.positions);
+    let (mean_h_after, std_h_after) = functional.mean_curvature_statistics(&optimized.positions);
+    Ok(ShapeChange {
+        s_before: functional.value(&prepared.positions).s,
+        s_after: functional.value(&optimized.positions).s,
+        mean_h_before,
+        mean_h_after,
+        std_h_before,
+        std_h_after,
+    })
+}
