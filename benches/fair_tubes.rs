@@ -3,32 +3,44 @@
 //! the time depends on the start), printed next to the paper's Table 1 seconds and the
 //! author's BSTools times measured on this kind of machine (issue 6).
 //!
-//! Sizes: `FAIR_BENCH_SIZES=359,1007,3743,14399` (default `359,1007`); OpenSubdiv's
+//! Sizes (total vertices): `FAIR_BENCH_SIZES=359,1295,4895,1007,3743,14399,1677,6237,23997`
+//! (default `359,1007`). Times are wall-clock on all cores (rayon; `RAYON_NUM_THREADS=1`
+//! for one), the paper's and BSTools' on one core. OpenSubdiv's
 //! isolation level around extraordinary vertices: `FAIR_BENCH_ISOLATION` (default 4);
 //! `FAIR_BENCH_WARM_START=2` first optimizes at level 2 (see `FairOptions`).
 
 use std::time::Instant;
 
 use surfkit::fair::{
-    fixed_vertices, optimize, tubes, FairOptions, Functional, MeshTopology, PatchRepresentation,
+    fixed_vertices, optimize, refine_surface, tubes, FairOptions, Functional, MeshTopology,
+    PatchRepresentation,
 };
 
-/// (vertices, m, rings, paper Table 1 seconds, BSTools seconds on this machine).
-type Size = (usize, u32, u32, Option<f64>, Option<f64>);
+/// (vertices, tubes, m, rings, surface refinements, paper Table 1 seconds, BSTools seconds
+/// on this kind of machine). The author's three-tube mesh (359 vertices) and its surface
+/// refinements (1295, 4895: BSTools took 13.8 s, 112 s, and had not converged after
+/// 1800 s at 4895), and Table 1's three- and five-tube junctions.
+type Size = (usize, u32, u32, u32, u32, Option<f64>, Option<f64>);
 
-const SIZES: [Size; 4] = [
-    (359, 4, 3, None, Some(13.8)),
-    (1007, 8, 2, Some(75.0), None),
-    (3743, 16, 3, Some(563.0), None),
-    (14399, 32, 5, Some(2115.0), None),
+const SIZES: [Size; 9] = [
+    (359, 3, 4, 3, 0, None, Some(13.8)),
+    (1295, 3, 4, 3, 1, None, Some(112.0)),
+    (4895, 3, 4, 3, 2, None, Some(1800.0)),
+    (1007, 3, 8, 2, 0, Some(75.0), None),
+    (3743, 3, 8, 2, 1, Some(563.0), None),
+    (14399, 3, 8, 2, 2, Some(2115.0), None),
+    (1677, 5, 8, 2, 0, Some(129.0), None),
+    (6237, 5, 8, 2, 1, Some(525.0), None),
+    (23997, 5, 8, 2, 2, Some(3523.0), None),
 ];
 
-/// CPU time of this thread in seconds (`/proc/self/schedstat`), so that the comparison is
-/// fair on a machine shared with other jobs; `None` where unavailable.
+/// CPU time of the whole process (all threads) in seconds, from `/proc/self/stat`;
+/// `None` where unavailable.
 fn cpu_seconds() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
-    Some(ns * 1e-9)
+    let text = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let fields: Vec<&str> = text.rsplit(')').next()?.split_whitespace().collect();
+    let ticks: f64 = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
 }
 
 /// F of `positions` with the end caps isolated at `isolation` levels.
@@ -71,11 +83,13 @@ fn main() -> surfkit::Result<()> {
         "std H 0",
         "std H 1",
         "|g|/|g0|",
-        "CPU s",
-        "paper s"
+        "wall s",
+        "ref s"
     );
-    for &(nv, m, rings, paper, bstools) in SIZES.iter().filter(|s| wanted.contains(&s.0)) {
-        let mesh = tubes(3, m, rings)?;
+    for &(nv, n, m, rings, levels, paper, bstools) in SIZES.iter().filter(|s| wanted.contains(&s.0))
+    {
+        let mesh = refine_surface(&tubes(n, m, rings)?, levels)?;
+        assert_eq!(mesh.vertex_count(), nv, "the generator's sizes changed");
         let mut options = FairOptions {
             max_refinements: 0,
             ..FairOptions::default()
@@ -96,9 +110,9 @@ fn main() -> surfkit::Result<()> {
         let cpu0 = cpu_seconds();
         let (out, report) = optimize(&mesh, &options)?;
         let wall = start.elapsed().as_secs_f64();
-        let seconds = match (cpu0, cpu_seconds()) {
+        let cpu = match (cpu0, cpu_seconds()) {
             (Some(a), Some(b)) => b - a,
-            _ => wall,
+            _ => f64::NAN,
         };
         let topo = MeshTopology::new(&mesh)?;
         let fixed = fixed_vertices(&topo, 3, &[])?;
@@ -139,16 +153,32 @@ fn main() -> surfkit::Result<()> {
             sd0,
             sd1,
             report.final_gradient_norm / report.initial_gradient_norm,
-            seconds,
+            wall,
             reference.map_or("-".into(), |r| format!("{r:.1}")),
             match (paper, bstools) {
-                (Some(p), _) => format!("  (Table 1; ratio {:.2})", p / seconds),
-                (None, Some(b)) => format!("  (BSTools here; ratio {:.2})", b / seconds),
+                (Some(p), _) => format!("  (Table 1, one core; ratio {:.2})", p / wall),
+                (None, Some(b)) if nv == 4895 => format!(
+                    "  (BSTools here: not converged after {b:.0} s; ratio > {:.2})",
+                    b / wall
+                ),
+                (None, Some(b)) => format!("  (BSTools here, one core; ratio {:.2})", b / wall),
                 _ => String::new(),
             }
         );
         println!(
-            "        wall {wall:.1} s (CPU {seconds:.1} s); {}",
+            "        {}; converged {}; CPU {cpu:.1} s on {} threads, {:.1} s in {} Hessians, \
+             {:.1} s in {} factorizations; {}",
+            if levels > 0 {
+                format!("{n} tubes refined {levels}x")
+            } else {
+                format!("{n} tubes raw")
+            },
+            report.newton.converged,
+            rayon::current_num_threads(),
+            report.newton.hessian_seconds,
+            report.newton.hessian_evaluations,
+            report.newton.factorization_seconds,
+            report.newton.factorizations,
             isolation.join("; ")
         );
     }
