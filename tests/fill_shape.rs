@@ -259,7 +259,7 @@ fn bad_combinations_are_refused_with_the_reason() {
         ),
         (
             [&bfs[..], &["--shape", "positive", "--shape", "negative"]].concat(),
-            "--shape Positive and Negative contradict each other".into(),
+            "--shape positive and negative contradict each other (the sign of σ)".into(),
         ),
         (
             [
@@ -267,7 +267,8 @@ fn bad_combinations_are_refused_with_the_reason() {
                 &["--shape", "increasing-v", "--shape", "decreasing-v"],
             ]
             .concat(),
-            "contradict each other (monotonicity in v)".into(),
+            "--shape increasing-v and decreasing-v contradict each other (monotonicity in v)"
+                .into(),
         ),
         (
             [&bfs[..], &["--shape-points", &p]].concat(),

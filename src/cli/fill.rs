@@ -146,9 +146,17 @@ fn shape_constraints(args: &FillArgs) -> Result<Option<ShapeConstraints>> {
     }
     let pick = |plus: ShapeArg, minus: ShapeArg, what: &str| -> Result<Option<Tau>> {
         match (args.shape.contains(&plus), args.shape.contains(&minus)) {
-            (true, true) => Err(Error::InvalidInput(format!(
-                "--shape {plus:?} and {minus:?} contradict each other ({what})"
-            ))),
+            (true, true) => {
+                let name = |a: ShapeArg| {
+                    clap::ValueEnum::to_possible_value(&a)
+                        .map_or_else(|| format!("{a:?}"), |v| v.get_name().to_string())
+                };
+                Err(Error::InvalidInput(format!(
+                    "--shape {} and {} contradict each other ({what})",
+                    name(plus),
+                    name(minus)
+                )))
+            }
             (true, false) => Ok(Some(Tau::Plus)),
             (false, true) => Ok(Some(Tau::Minus)),
             (false, false) => Ok(None),
