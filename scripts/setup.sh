@@ -4,7 +4,7 @@
 # Installs, only when missing: a C++ compiler, libclang (for bindgen), OpenMesh
 # (libopenmesh-dev), OpenSubdiv (libosd-dev), CGAL headers (libcgal-dev, cross-checks),
 # a Rust toolchain (rustup) when cargo is not on PATH, and the Python peers the
-# cross-checks and benches compare with (pymeshlab, trimesh, numpy) in .venv, which the
+# cross-checks and benches compare with (pymeshlab, trimesh, numpy, scipy) in .venv, which the
 # command finds through SURFKIT_PYTHON.
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
@@ -32,10 +32,10 @@ if ! command -v cargo >/dev/null 2>&1; then
   fi
 fi
 
-if [ ! -x .venv/bin/python ] || ! .venv/bin/python -c 'import pymeshlab, trimesh, numpy' >/dev/null 2>&1; then
-  echo "surfkit setup: installing pymeshlab, trimesh and numpy into .venv" >&2
+if [ ! -x .venv/bin/python ] || ! .venv/bin/python -c 'import pymeshlab, trimesh, numpy, scipy' >/dev/null 2>&1; then
+  echo "surfkit setup: installing pymeshlab, trimesh, numpy and scipy into .venv" >&2
   /usr/bin/python3 -m venv .venv 2>/dev/null || python3 -m venv .venv
-  .venv/bin/python -m pip install -q --disable-pip-version-check pymeshlab trimesh numpy
+  .venv/bin/python -m pip install -q --disable-pip-version-check pymeshlab trimesh numpy scipy
 fi
 export SURFKIT_PYTHON="$PWD/.venv/bin/python"
 

@@ -5,11 +5,12 @@
 
 use std::path::PathBuf;
 
-use crate::fit::data::{from_mesh, read_csv};
+use crate::fit::data::{from_mesh, read_csv, read_uv_points};
 use crate::fit::expr::Expr;
 use crate::fit::fill::FillVariant;
 use crate::fit::hole::{Hole, HoleShape};
 use crate::fit::pipeline::{fit_and_fill, offset_data, FitSetup, HoleSource, SpaceKind};
+use crate::fit::shape::{ShapeConstraints, Tau};
 use crate::{Error, Result};
 
 /// The spline space.
@@ -73,6 +74,117 @@ pub struct FillArgs {
     /// paper's boundary constraints.
     #[arg(long)]
     pub exact_c1: bool,
+    /// Fill the hole preserving shape (2024 §4, needs `--space bfs-c1`): the condition
+    /// τL(σ) ≥ 0 with L = σ, ∂σ/∂u or ∂σ/∂v and τ = +1 (positive, increasing) or −1
+    /// (negative, decreasing), imposed on one component at the free nodes of the hole, a
+    /// lattice in each hole cell and `--shape-points`. Repeatable, e.g. `--shape positive
+    /// --shape increasing-u`.
+    #[arg(long, value_enum)]
+    pub shape: Vec<ShapeArg>,
+    /// The component the shape conditions apply to [default: z].
+    #[arg(long, value_enum)]
+    pub shape_component: Option<ComponentArg>,
+    /// Constraint points per side of the n × n lattice inside each hole cell [default: 3].
+    #[arg(long)]
+    pub shape_lattice: Option<usize>,
+    /// A CSV of extra constraint points `u,v` (each inside the hole).
+    #[arg(long)]
+    pub shape_points: Option<PathBuf>,
+}
+
+/// A shape condition τL(σ) ≥ 0 of the 2024 paper's (10).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShapeArg {
+    /// σ ≥ 0 (L = identity, τ = +1).
+    Positive,
+    /// σ ≤ 0 (τ = −1).
+    Negative,
+    /// ∂σ/∂u ≥ 0.
+    IncreasingU,
+    /// ∂σ/∂u ≤ 0.
+    DecreasingU,
+    /// ∂σ/∂v ≥ 0.
+    IncreasingV,
+    /// ∂σ/∂v ≤ 0.
+    DecreasingV,
+}
+
+/// A component of σ = (x, y, z).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ComponentArg {
+    X,
+    Y,
+    Z,
+}
+
+/// The shape conditions of the arguments, or `None` without `--shape`.
+///
+/// Errors: `InvalidInput` for contradicting conditions (positive and negative, increasing
+/// and decreasing in the same variable), shape options without `--shape`, `--shape` with
+/// `--offset` (the 2024 method constrains the base surface before the offset terms are
+/// added, which `fill` does not do), and as [`read_uv_points`] for the points file.
+fn shape_constraints(args: &FillArgs) -> Result<Option<ShapeConstraints>> {
+    if args.shape.is_empty() {
+        let stray = [
+            (args.shape_component.is_some(), "--shape-component"),
+            (args.shape_lattice.is_some(), "--shape-lattice"),
+            (args.shape_points.is_some(), "--shape-points"),
+        ];
+        if let Some((_, name)) = stray.iter().find(|(given, _)| *given) {
+            return Err(Error::InvalidInput(format!(
+                "{name} needs at least one --shape condition (positive, increasing-u, …)"
+            )));
+        }
+        return Ok(None);
+    }
+    if args.spline.offset.is_some() {
+        return Err(Error::InvalidInput(
+            "--shape with --offset is not supported: the 2024 method constrains the base \
+             surface σ̄ = σ − offset terms, which `fill` does not separate yet"
+                .into(),
+        ));
+    }
+    let pick = |plus: ShapeArg, minus: ShapeArg, what: &str| -> Result<Option<Tau>> {
+        match (args.shape.contains(&plus), args.shape.contains(&minus)) {
+            (true, true) => {
+                let name = |a: ShapeArg| {
+                    clap::ValueEnum::to_possible_value(&a)
+                        .map_or_else(|| format!("{a:?}"), |v| v.get_name().to_string())
+                };
+                Err(Error::InvalidInput(format!(
+                    "--shape {} and {} contradict each other ({what})",
+                    name(plus),
+                    name(minus)
+                )))
+            }
+            (true, false) => Ok(Some(Tau::Plus)),
+            (false, true) => Ok(Some(Tau::Minus)),
+            (false, false) => Ok(None),
+        }
+    };
+    Ok(Some(ShapeConstraints {
+        component: match args.shape_component.unwrap_or(ComponentArg::Z) {
+            ComponentArg::X => 0,
+            ComponentArg::Y => 1,
+            ComponentArg::Z => 2,
+        },
+        value: pick(ShapeArg::Positive, ShapeArg::Negative, "the sign of σ")?,
+        slope_x: pick(
+            ShapeArg::IncreasingU,
+            ShapeArg::DecreasingU,
+            "monotonicity in u",
+        )?,
+        slope_y: pick(
+            ShapeArg::IncreasingV,
+            ShapeArg::DecreasingV,
+            "monotonicity in v",
+        )?,
+        extra_per_side: args.shape_lattice.unwrap_or(3),
+        extra_points: match &args.shape_points {
+            Some(p) => read_uv_points(p)?,
+            None => vec![],
+        },
+    }))
 }
 
 fn numbers(s: &str, what: &str) -> Result<Vec<f64>> {
@@ -128,7 +240,8 @@ pub fn run(args: &FillArgs) -> Result<()> {
     } else {
         FillVariant::Paper
     };
-    let setup = setup(&args.spline, hole, variant)?;
+    let mut setup = setup(&args.spline, hole, variant)?;
+    setup.shape = shape_constraints(args)?;
     let out = load_and_solve(&args.spline, &setup)?;
     let s = &out.summary;
     if args.spline.json {
@@ -155,12 +268,22 @@ pub fn run(args: &FillArgs) -> Result<()> {
         "  misfit at the data: rms {:.3e}, max {:.3e}; {} cells without data",
         s.rms_misfit, s.max_misfit, s.empty_cells
     );
-    match &s.fill {
-        Some(f) => println!(
+    match (&s.fill, &s.shape) {
+        (Some(f), Some(sh)) => {
+            println!(
+                "  hole: {} cells filled preserving shape (2024 (11)), {} free coefficients, jumps across its border C⁰ {:.2e}, C¹ {:.2e}",
+                s.hole_cells, sh.unknowns, f.c0_jump, f.c1_jump
+            );
+            println!(
+                "  shape conditions: {} inequalities ({}), {} violated, worst violation {:.2e} (tolerance {:.2e})",
+                sh.inequalities, sh.status, sh.violated, sh.max_violation, sh.tolerance
+            );
+        }
+        (Some(f), None) => println!(
             "  hole: {} cells, {} constraints (rank {}), jumps across its border C⁰ {:.2e}, C¹ {:.2e}",
             s.hole_cells, f.constraints, f.constraint_rank, f.c0_jump, f.c1_jump
         ),
-        None => println!("  no hole filled"),
+        (None, _) => println!("  no hole filled"),
     }
     if let Some(p) = &args.spline.output {
         println!("  wrote {}", p.display());
@@ -192,6 +315,7 @@ pub(super) fn setup(args: &SplineArgs, hole: HoleSource, variant: FillVariant) -
         epsilon: args.epsilon,
         hole,
         variant,
+        shape: None,
     })
 }
 

@@ -126,6 +126,9 @@ pub fn run(args: &PaperArgs) -> crate::Result<()> {
                 2
             };
             let rows = paper_kp2004::sweep(which, &[0.0, 0.1, 1.0, paper_kp2004::TAU, 100.0])?;
+            let figures = paper_kp2004::Kp2004Problem::new(which)?
+                .figures(paper_kp2004::TAU, paper_kp2004::FIGURE_RESOLUTION)?;
+            let written = write_figures(&args.figures, &figures)?;
             if args.json {
                 return json(&rows);
             }
@@ -138,6 +141,13 @@ pub fn run(args: &PaperArgs) -> crate::Result<()> {
                     "{:>7} {:>9} {:>14.4e} {:>16.4e}",
                     r.tau, r.system_dimension, r.pi_per_point, r.data_misfit
                 );
+            }
+            println!(
+                "figures (x₀, the fit at τ = 0 and at τ = {}; quality: the local parallelism defect):",
+                paper_kp2004::TAU
+            );
+            for path in written {
+                println!("  {}", path.display());
             }
         }
     }

@@ -62,6 +62,57 @@ pub fn read_csv(path: &Path) -> Result<ScatteredData> {
     parse_csv(path, &text)
 }
 
+/// Parses extra shape-constraint points (2024 (11)'s Γ_h): CSV lines `u,v` (a header line is
+/// skipped, `#` starts a comment); each point is labelled with its file and line so a
+/// point outside the hole can be named.
+///
+/// Errors: `Parse` naming the line for a line that is not two finite numbers (except a
+/// non-numeric first line); `InvalidInput` for no points.
+pub fn parse_uv_points(path: &Path, text: &str) -> Result<Vec<super::shape::ShapePoint>> {
+    let mut out = vec![];
+    for (i, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let nums: std::result::Result<Vec<f64>, _> = line
+            .split([',', ';', '\t'])
+            .map(|f| f.trim().parse::<f64>())
+            .collect();
+        match nums {
+            Ok(v) if v.len() == 2 && v.iter().all(|x| x.is_finite()) => {
+                out.push(super::shape::ShapePoint {
+                    uv: [v[0], v[1]],
+                    label: format!("{} line {}", path.display(), i + 1),
+                })
+            }
+            Err(_) if out.is_empty() && i == 0 => continue,
+            _ => {
+                return Err(Error::parse(
+                    path,
+                    Location::Line(i + 1),
+                    format!("expected two finite numbers u,v, got {line:?}"),
+                ))
+            }
+        }
+    }
+    if out.is_empty() {
+        return Err(Error::InvalidInput(format!(
+            "{}: no constraint points",
+            path.display()
+        )));
+    }
+    Ok(out)
+}
+
+/// Reads a CSV of `u,v` constraint points (the file is never modified).
+///
+/// Errors: `Io` if it cannot be read; as [`parse_uv_points`].
+pub fn read_uv_points(path: &Path) -> Result<Vec<super::shape::ShapePoint>> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    parse_uv_points(path, &text)
+}
+
 /// The data of a mesh: one point per distinct (vertex, texture coordinate) pair when the
 /// mesh has UVs (a vertex on a UV seam gives one datum per side), else one per vertex with
 /// (u, v) = (x, y) (a height field).

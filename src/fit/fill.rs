@@ -313,9 +313,31 @@ pub fn fill_hole(
         }
     }
 
-    // Jumps across ∂H_h, sampled at 5 points per interface edge.
+    let (c0, c1) = border_jumps(space, sigma1, &sigma2, hole_cells)?;
+    report.c0_jump = c0;
+    report.c1_jump = c1;
+    Ok(HoleFill {
+        sigma1: sigma1.clone(),
+        sigma2,
+        hole_cells: hole_cells.to_vec(),
+        report,
+    })
+}
+
+/// The largest jumps (C⁰, C¹ in the normal direction) between σ₂ on H_h and σ₁ outside,
+/// across ∂H_h, sampled at 5 points per interface edge: how continuous the filled σ is.
+///
+/// Errors: `InvalidInput` if a spline does not match the space.
+pub fn border_jumps(
+    space: &dyn Space,
+    sigma1: &VectorSpline,
+    sigma2: &VectorSpline,
+    hole_cells: &[bool],
+) -> Result<(f64, f64)> {
+    let g = space.grid();
+    let (mut c0, mut c1) = (0.0f64, 0.0f64);
     let (bx, by) = (g.x.breaks(), g.y.breaks());
-    for e in &edges {
+    for e in &interfaces(space, hole_cells) {
         for t in [0.0, 0.25, 0.5, 0.75, 1.0] {
             let x = bx[e.from.0] + t * (bx[e.to.0] - bx[e.from.0]);
             let y = by[e.from.1] + t * (by[e.to.1] - by[e.from.1]);
@@ -327,16 +349,11 @@ pub fn fill_hole(
             let dist = |p: [f64; 3], q: [f64; 3]| {
                 ((0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>()).sqrt()
             };
-            report.c0_jump = report.c0_jump.max(dist(v2, v1));
-            report.c1_jump = report.c1_jump.max(dist(n2, n1));
+            c0 = c0.max(dist(v2, v1));
+            c1 = c1.max(dist(n2, n1));
         }
     }
-    Ok(HoleFill {
-        sigma1: sigma1.clone(),
-        sigma2,
-        hole_cells: hole_cells.to_vec(),
-        report,
-    })
+    Ok((c0, c1))
 }
 
 #[cfg(test)]

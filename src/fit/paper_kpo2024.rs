@@ -272,7 +272,7 @@ pub fn fill_run(
     extra_per_side: usize,
     figures: bool,
 ) -> Result<Kpo2024Fill> {
-    use super::shape::{shape_preserving_fill, ShapeConstraints};
+    use super::shape::{shape_preserving_fill, ShapeConstraints, Tau};
     let f = fit(points, epsilon, seed, true)?;
     let off = offset();
     let disp = |u: f64, v: f64| off.displacement(u, v);
@@ -299,10 +299,11 @@ pub fn fill_run(
     }
     let shape = ShapeConstraints {
         component: 2,
-        positive: true,
-        increasing_x: true,
-        increasing_y: true,
+        value: Some(Tau::Plus),
+        slope_x: Some(Tau::Plus),
+        slope_y: Some(Tau::Plus),
         extra_per_side,
+        extra_points: vec![],
     };
     let filled = shape_preserving_fill(&f.space, &boundary, &f.mask, 2, &shape)?;
     let grid = f.space.grid();

@@ -9,9 +9,11 @@ use crate::mesh::PolygonMesh;
 use crate::spline::{Grid, Partition, Space, TensorSpace};
 
 use super::data::ScatteredData;
+use super::fill::border_jumps;
 use super::fill::{fill_hole, FillOptions, FillReport, FillVariant, HoleFill};
 use super::hole::{cells_without_data, Hole, HoleShape};
 use super::sample::sample_mesh;
+use super::shape::{shape_preserving_fill, ShapeConstraints, ShapeReport};
 use super::smoothing::{smoothing_spline, SmoothingOptions};
 use super::surface::VectorSpline;
 
@@ -47,6 +49,9 @@ pub struct FitSetup {
     pub epsilon: f64,
     pub hole: HoleSource,
     pub variant: FillVariant,
+    /// Shape conditions on the filled part (2024 §4, (10)–(11)): with them the hole is
+    /// filled by [`shape_preserving_fill`] (BFS C¹ only) instead of the 2022 method.
+    pub shape: Option<ShapeConstraints>,
 }
 
 /// What the pipeline did.
@@ -67,6 +72,8 @@ pub struct FitSummary {
     /// Cells of H_h (0 without a hole).
     pub hole_cells: usize,
     pub fill: Option<FillReport>,
+    /// The shape-preserving fill's constraints and their violations (with `shape`).
+    pub shape: Option<ShapeReport>,
 }
 
 /// The solved surfaces.
@@ -164,6 +171,40 @@ pub fn fit_and_fill(data: &ScatteredData, setup: &FitSetup) -> Result<FitOutcome
             "no data, or parameters and points of different counts".into(),
         ));
     }
+    if let Some(shape) = &setup.shape {
+        if setup.space != SpaceKind::BfsC1 {
+            return Err(Error::InvalidInput(format!(
+                "shape constraints (2024 §4) need the Bogner–Fox–Schmit C¹ space (bfs-c1), not {:?}: \
+                 its nodal degrees of freedom are what the boundary interpolation fixes",
+                setup.space
+            )));
+        }
+        if setup.hole == HoleSource::None {
+            return Err(Error::InvalidInput(
+                "shape constraints apply to the filled hole: give a hole (or cells without data)"
+                    .into(),
+            ));
+        }
+        if setup.variant == FillVariant::ExactC1 {
+            return Err(Error::InvalidInput(
+                "shape constraints and the exact-C¹ variant are exclusive: the shape-preserving \
+                 fill interpolates every nodal degree of freedom on the hole's border, so it is \
+                 already C¹ there"
+                    .into(),
+            ));
+        }
+        if shape.value.is_none() && shape.slope_x.is_none() && shape.slope_y.is_none() {
+            return Err(Error::InvalidInput(
+                "shape constraints without any condition (positivity or monotonicity)".into(),
+            ));
+        }
+        if shape.component > 2 {
+            return Err(Error::InvalidInput(format!(
+                "shape constraint component {} (expected 0, 1 or 2 for x, y, z)",
+                shape.component
+            )));
+        }
+    }
     let u = range(data.params.iter().map(|p| p[0]));
     let v = range(data.params.iter().map(|p| p[1]));
     if !(u[0] < u[1] && v[0] < v[1]) {
@@ -176,9 +217,9 @@ pub fn fit_and_fill(data: &ScatteredData, setup: &FitSetup) -> Result<FitOutcome
         Partition::uniform(v[0], v[1], setup.cells[1])?,
     );
     let space: Box<dyn Space> = match setup.space {
-        SpaceKind::Biquadratic => Box::new(TensorSpace::bspline(px, py, 2)?),
-        SpaceKind::Bicubic => Box::new(TensorSpace::bspline(px, py, 3)?),
-        SpaceKind::BfsC1 => Box::new(TensorSpace::bfs_c1(px, py)?),
+        SpaceKind::Biquadratic => Box::new(TensorSpace::bspline(px.clone(), py.clone(), 2)?),
+        SpaceKind::Bicubic => Box::new(TensorSpace::bspline(px.clone(), py.clone(), 3)?),
+        SpaceKind::BfsC1 => Box::new(TensorSpace::bfs_c1(px.clone(), py.clone())?),
     };
     let grid: Grid = space.grid().clone();
     let fit = smoothing_spline(
@@ -225,20 +266,44 @@ pub fn fit_and_fill(data: &ScatteredData, setup: &FitSetup) -> Result<FitOutcome
             setup.cells[1]
         )));
     }
-    let fill = match &mask {
-        Some(m) => Some(fill_hole(
-            space.as_ref(),
-            &fit.spline,
-            &data.params,
-            m,
-            &FillOptions {
-                epsilon: setup.epsilon,
-                m: 2,
-                variant: setup.variant,
-            },
-        )?),
-        None => None,
-    };
+    let mut shape_report = None;
+    let fill =
+        match (&mask, &setup.shape) {
+            (Some(m), Some(shape)) => {
+                // 2024 (11): σ̄₂ = argmin |v|₂,H_h with σ₁'s nodal dofs on ∂H_h and τL(v) ≥ 0.
+                let bfs = TensorSpace::bfs_c1(px.clone(), py.clone())?;
+                let filled = shape_preserving_fill(&bfs, &fit.spline, m, 2, shape)?;
+                let (c0, c1) = border_jumps(&bfs, &fit.spline, &filled.spline, m)?;
+                shape_report = Some(filled.report.clone());
+                Some(HoleFill {
+                    sigma1: fit.spline.clone(),
+                    sigma2: filled.spline,
+                    hole_cells: m.clone(),
+                    report: FillReport {
+                        unknowns: filled.report.unknowns,
+                        c0_jump: c0,
+                        c1_jump: c1,
+                        ..Default::default()
+                    },
+                })
+            }
+            (Some(m), None) => Some(fill_hole(
+                space.as_ref(),
+                &fit.spline,
+                &data.params,
+                m,
+                &FillOptions {
+                    epsilon: setup.epsilon,
+                    m: 2,
+                    variant: setup.variant,
+                },
+            )?),
+            (None, Some(_)) => return Err(Error::InvalidInput(
+                "shape constraints were given but there is no hole to fill: every cell holds data"
+                    .into(),
+            )),
+            (None, None) => None,
+        };
     let mut out = FitOutcome {
         space,
         sigma1: fit.spline,
@@ -258,6 +323,7 @@ pub fn fit_and_fill(data: &ScatteredData, setup: &FitSetup) -> Result<FitOutcome
                 .as_ref()
                 .map_or(0, |m| m.iter().filter(|&&b| b).count()),
             fill: None,
+            shape: shape_report,
         },
     };
     out.summary.dimension_per_component = out.space.dim();
@@ -289,6 +355,7 @@ pub fn offset_data(
         data,
         &FitSetup {
             hole: HoleSource::None,
+            shape: None,
             ..setup.clone()
         },
     )?;
@@ -343,6 +410,7 @@ mod tests {
                 epsilon: 1e-6,
                 hole: HoleSource::CellsWithoutData,
                 variant: FillVariant::Paper,
+                shape: None,
             };
             let out = fit_and_fill(&d, &setup).unwrap();
             assert_eq!(out.summary.hole_cells, 1);
@@ -370,6 +438,7 @@ mod tests {
             epsilon: 1e-9,
             hole: HoleSource::None,
             variant: FillVariant::Paper,
+            shape: None,
         };
         let o = offset_data(&d, &setup, &|_, _| Ok([0.0, 0.0, 0.1])).unwrap();
         let s = 0.1 / 1.25f64.sqrt();
@@ -392,6 +461,7 @@ mod tests {
             epsilon: 1e-6,
             hole: HoleSource::None,
             variant: FillVariant::Paper,
+            shape: None,
         };
         assert!(fit_and_fill(&d, &setup).is_err(), "two points");
         let line = ScatteredData {

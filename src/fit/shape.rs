@@ -8,38 +8,75 @@
 
 use std::collections::BTreeMap;
 
+use serde::Serialize;
+
 use faer::Mat;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, SolverFailure};
 use crate::linalg::{minimize_with_equalities, solve_qp};
 use crate::spline::{seminorm_gram, Basis1d, Cell, Hermite1d, Space, TensorSpace};
 
 use super::surface::VectorSpline;
 
-/// The shape conditions τ of (10): which L(v) ≥ 0 to impose on one component.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The sign τ = ±1 of a shape condition τ L(v)(x) ≥ 0 of (10): `Plus` asks for L(v) ≥ 0
+/// (positive, increasing), `Minus` for L(v) ≤ 0 (negative, decreasing).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Tau {
+    Plus,
+    Minus,
+}
+
+impl Tau {
+    /// τ as a number.
+    pub fn factor(self) -> f64 {
+        match self {
+            Tau::Plus => 1.0,
+            Tau::Minus => -1.0,
+        }
+    }
+}
+
+/// An extra constraint point (u, v) of Γ_h, with a label that names where it came from
+/// (for instance `points.csv line 4`) so an error can point at it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShapePoint {
+    pub uv: [f64; 2],
+    pub label: String,
+}
+
+/// The shape conditions of (10) on one component: each of L(v) = v, ∂v/∂x, ∂v/∂y is
+/// either not imposed (`None`) or imposed with its sign τ.
+#[derive(Debug, Clone, PartialEq)]
 pub struct ShapeConstraints {
     /// The component (0, 1, 2) the conditions apply to.
     pub component: usize,
-    /// τ⁰₀: v ≥ 0.
-    pub positive: bool,
-    /// τ¹₀: ∂v/∂x ≥ 0.
-    pub increasing_x: bool,
-    /// τ¹₁: ∂v/∂y ≥ 0.
-    pub increasing_y: bool,
+    /// τ⁰₀: τ v ≥ 0 (positivity for `Plus`).
+    pub value: Option<Tau>,
+    /// τ¹₀: τ ∂v/∂x ≥ 0 (monotonicity in x).
+    pub slope_x: Option<Tau>,
+    /// τ¹₁: τ ∂v/∂y ≥ 0 (monotonicity in y).
+    pub slope_y: Option<Tau>,
     /// Extra constraint points per cell side (a k × k lattice inside each H_h cell).
     pub extra_per_side: usize,
+    /// Extra constraint points given one by one; each must lie in a cell of H_h.
+    pub extra_points: Vec<ShapePoint>,
 }
 
 /// What the shape-preserving filling did.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, Serialize)]
 pub struct ShapeReport {
     /// Free coefficients per component.
     pub unknowns: usize,
-    /// Inequality constraints imposed.
+    /// Inequality constraints imposed (points × conditions).
     pub inequalities: usize,
-    /// The worst violation max(0, −τL(σ̄₂)(x)) over the imposed constraints.
+    /// The worst violation max(0, −τL(σ̄₂)(x)) over the imposed constraints, evaluated on
+    /// the solved spline (not taken from the solver).
     pub max_violation: f64,
+    /// Imposed constraints with τL(σ̄₂)(x) < 0, however small.
+    pub violated: usize,
+    /// The largest violation accepted: clarabel's primal feasibility tolerance scaled as it
+    /// scales it (a larger one is an error).
+    pub tolerance: f64,
     /// clarabel's status.
     pub status: String,
 }
@@ -119,53 +156,8 @@ pub fn shape_preserving_fill(
             node_free(p, q)
         })
         .collect();
-    let mut spline = boundary.clone();
-    let mut report = ShapeReport {
-        unknowns: free.len(),
-        status: "no free coefficient".into(),
-        ..Default::default()
-    };
-    if free.is_empty() {
-        return Ok(ShapeFill {
-            spline,
-            hole_cells: hole_cells.to_vec(),
-            report,
-        });
-    }
-    let gram = seminorm_gram(space, m, &hcells)?;
-    let mut pos_free = vec![usize::MAX; active.len()];
-    for (i, &l) in free.iter().enumerate() {
-        pos_free[l] = i;
-    }
-    let nf = free.len();
-    let mut kff = Mat::<f64>::zeros(nf, nf);
-    let mut qs = vec![vec![0.0; nf]; 3];
-    for (i, j, v) in gram.triplets() {
-        let (li, lj) = (local[&i], local[&j]);
-        let fi = pos_free[li];
-        if fi == usize::MAX {
-            continue;
-        }
-        let fj = pos_free[lj];
-        if fj != usize::MAX {
-            kff[(fi, fj)] += v;
-        } else {
-            for (comp, q) in qs.iter_mut().enumerate() {
-                q[fi] += v * boundary.coeffs[comp][j];
-            }
-        }
-    }
-    // Unconstrained components: Kff β = −q.
-    let neg: Vec<Vec<f64>> = qs.iter().map(|q| q.iter().map(|x| -x).collect()).collect();
-    let empty = Mat::<f64>::zeros(0, nf);
-    let sol = minimize_with_equalities(&kff, &empty, &neg, &[vec![], vec![], vec![]])?;
-    for comp in 0..3 {
-        for (i, &l) in free.iter().enumerate() {
-            spline.coeffs[comp][active[l]] = sol.beta[comp][i];
-        }
-    }
-
-    // Constraint points: the free nodes and a lattice inside every H_h cell.
+    // Constraint points Γ_h: the free nodes, a k × k lattice inside every H_h cell, and the
+    // extra points (each in an H_h cell that contains it).
     let (bx, by) = (g.x.breaks(), g.y.breaks());
     let mut pts: Vec<(Cell, f64, f64)> = vec![];
     for &c in &hcells {
@@ -183,64 +175,202 @@ pub fn shape_preserving_fill(
             pts.push((c, bx[c.i], by[c.j]));
         }
     }
-    let ops: Vec<(usize, usize)> = [
-        (shape.positive, (0, 0)),
-        (shape.increasing_x, (1, 0)),
-        (shape.increasing_y, (0, 1)),
+    for p in &shape.extra_points {
+        let [x, y] = p.uv;
+        let inside = hcells.iter().find(|&&c| {
+            let ([x0, x1], [y0, y1]) = g.cell_bounds(c);
+            (x0..=x1).contains(&x) && (y0..=y1).contains(&y)
+        });
+        match inside {
+            Some(&c) => pts.push((c, x, y)),
+            None => {
+                return Err(Error::InvalidInput(format!(
+                    "{}: constraint point ({x}, {y}) is not in the hole H_h ({nh} cells); \
+                     shape conditions apply inside the filled cells only",
+                    p.label
+                )))
+            }
+        }
+    }
+    // (L as derivative orders, τ): v, ∂v/∂x, ∂v/∂y.
+    let ops: Vec<Op> = [
+        (shape.value, (0, 0)),
+        (shape.slope_x, (1, 0)),
+        (shape.slope_y, (0, 1)),
     ]
     .iter()
-    .filter(|(on, _)| *on)
-    .map(|&(_, o)| o)
+    .filter_map(|&(t, o)| t.map(|t| (o, t.factor())))
     .collect();
-    if ops.is_empty() {
-        report.status = "no shape condition".into();
-        return Ok(ShapeFill {
-            spline,
-            hole_cells: hole_cells.to_vec(),
-            report,
-        });
-    }
+
+    let mut spline = boundary.clone();
+    let mut report = ShapeReport {
+        unknowns: free.len(),
+        inequalities: pts.len() * ops.len(),
+        status: "no free coefficient".into(),
+        ..Default::default()
+    };
     let comp = shape.component;
-    let mut a_entries = vec![];
-    let mut b = vec![];
-    for &(c, x, y) in &pts {
-        let lb = space.eval_on_cell(c, x, y, 1);
-        for &(da, db) in &ops {
-            // −Σ_free φₗ β ≤ Σ_fixed φₗ c
-            let row = b.len();
-            let mut rhs = 0.0;
-            for (l, &k) in lb.indices.iter().enumerate() {
-                let v = lb.d(l, da, db);
-                let f = pos_free[local[&k]];
-                if f != usize::MAX {
-                    a_entries.push((row, f, -v));
-                } else {
-                    rhs += v * boundary.coeffs[comp][k];
+    if !free.is_empty() {
+        let gram = seminorm_gram(space, m, &hcells)?;
+        let mut pos_free = vec![usize::MAX; active.len()];
+        for (i, &l) in free.iter().enumerate() {
+            pos_free[l] = i;
+        }
+        let nf = free.len();
+        let mut kff = Mat::<f64>::zeros(nf, nf);
+        let mut qs = vec![vec![0.0; nf]; 3];
+        for (i, j, v) in gram.triplets() {
+            let (li, lj) = (local[&i], local[&j]);
+            let fi = pos_free[li];
+            if fi == usize::MAX {
+                continue;
+            }
+            let fj = pos_free[lj];
+            if fj != usize::MAX {
+                kff[(fi, fj)] += v;
+            } else {
+                for (comp, q) in qs.iter_mut().enumerate() {
+                    q[fi] += v * boundary.coeffs[comp][j];
                 }
             }
-            b.push(rhs);
+        }
+        // Unconstrained components: Kff β = −q.
+        let neg: Vec<Vec<f64>> = qs.iter().map(|q| q.iter().map(|x| -x).collect()).collect();
+        let empty = Mat::<f64>::zeros(0, nf);
+        let sol = minimize_with_equalities(&kff, &empty, &neg, &[vec![], vec![], vec![]])?;
+        for comp in 0..3 {
+            for (i, &l) in free.iter().enumerate() {
+                spline.coeffs[comp][active[l]] = sol.beta[comp][i];
+            }
+        }
+        report.status = "no shape condition".into();
+        if !ops.is_empty() {
+            let mut a_entries = vec![];
+            let mut b = vec![];
+            for &(c, x, y) in &pts {
+                let lb = space.eval_on_cell(c, x, y, 1);
+                for &((da, db), tau) in &ops {
+                    // τL(v) ≥ 0 as −τ Σ_free L(φₗ) β ≤ τ Σ_fixed L(φₗ) c.
+                    let row = b.len();
+                    let mut rhs = 0.0;
+                    for (l, &k) in lb.indices.iter().enumerate() {
+                        let v = tau * lb.d(l, da, db);
+                        let f = pos_free[local[&k]];
+                        if f != usize::MAX {
+                            a_entries.push((row, f, -v));
+                        } else {
+                            rhs += v * boundary.coeffs[comp][k];
+                        }
+                    }
+                    b.push(rhs);
+                }
+            }
+            let mut p_entries = vec![];
+            for i in 0..nf {
+                for j in i..nf {
+                    if kff[(i, j)] != 0.0 {
+                        p_entries.push((i, j, kff[(i, j)]));
+                    }
+                }
+            }
+            let qp =
+                solve_qp(nf, &p_entries, &qs[comp], b.len(), &a_entries, &b).map_err(
+                    |e| match e {
+                        Error::Solver {
+                            failure: SolverFailure::Infeasible,
+                            detail,
+                        } => Error::Solver {
+                            failure: SolverFailure::Infeasible,
+                            detail: format!(
+                                "{detail}: the border data (σ₁'s nodal values and derivatives on \
+                             ∂H_h) contradict the shape conditions ({}) at the {} constraint \
+                             points; drop a condition or choose another hole",
+                                describe(&ops, comp),
+                                pts.len()
+                            ),
+                        },
+                        e => e,
+                    },
+                )?;
+            for (i, &l) in free.iter().enumerate() {
+                spline.coeffs[comp][active[l]] = qp.x[i];
+            }
+            report.tolerance = qp.violation_tolerance;
+            report.status = qp.status;
         }
     }
-    let mut p_entries = vec![];
-    for i in 0..nf {
-        for j in i..nf {
-            if kff[(i, j)] != 0.0 {
-                p_entries.push((i, j, kff[(i, j)]));
+    // The check, on the solved spline itself: τL(σ̄₂)(x) at every constraint point.
+    let mut worst: Option<(f64, f64, f64, Op)> = None;
+    let mut values = vec![];
+    for &(c, x, y) in &pts {
+        for &((da, db), tau) in &ops {
+            let l = tau * spline.eval_on_cell(space, c, x, y, da, db)?[comp];
+            values.push(l);
+            if l < 0.0 {
+                report.violated += 1;
+                if worst.is_none_or(|w| -l > w.0) {
+                    worst = Some((-l, x, y, ((da, db), tau)));
+                }
             }
         }
     }
-    let qp = solve_qp(nf, &p_entries, &qs[comp], b.len(), &a_entries, &b)?;
-    for (i, &l) in free.iter().enumerate() {
-        spline.coeffs[comp][active[l]] = qp.x[i];
+    report.max_violation = worst.map_or(0.0, |w| w.0);
+    if report.tolerance == 0.0 {
+        // No QP was solved (no free coefficient): the values are fixed by the boundary, so
+        // only round-off of their evaluation is allowed.
+        let scale = values.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        report.tolerance = crate::tolerance::ROUND_OFF * scale;
     }
-    report.inequalities = b.len();
-    report.max_violation = qp.max_violation;
-    report.status = qp.status;
+    if let Some((w, x, y, op)) = worst.filter(|w| w.0 > report.tolerance) {
+        let what = describe(&[op], comp);
+        let failure = if free.is_empty() {
+            SolverFailure::Infeasible
+        } else {
+            SolverFailure::NotConverged
+        };
+        return Err(Error::Solver {
+            failure,
+            detail: format!(
+                "shape condition {what} violated by {w:.3e} at ({x}, {y}) \
+                 (tolerance {:.3e}; {} of {} constraints violated{})",
+                report.tolerance,
+                report.violated,
+                report.inequalities,
+                if free.is_empty() {
+                    "; the hole has no free coefficient, so the boundary data decide"
+                } else {
+                    ""
+                }
+            ),
+        });
+    }
     Ok(ShapeFill {
         spline,
         hole_cells: hole_cells.to_vec(),
         report,
     })
+}
+
+/// A condition: L as the derivative orders (a, b) of ∂ᵃ⁺ᵇv/∂xᵃ∂yᵇ, and τ.
+type Op = ((usize, usize), f64);
+
+/// The conditions for messages: `τ∂v/∂x ≥ 0 with τ = −1 on z`.
+fn describe(ops: &[Op], comp: usize) -> String {
+    ops.iter()
+        .map(|&(d, tau)| {
+            let l = match d {
+                (0, 0) => "v",
+                (1, 0) => "∂v/∂x",
+                _ => "∂v/∂y",
+            };
+            format!(
+                "τ{l} ≥ 0 with τ = {} on {}",
+                if tau < 0.0 { "−1" } else { "+1" },
+                ["x", "y", "z"][comp]
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 #[cfg(test)]
@@ -283,10 +413,11 @@ mod tests {
 
     const ALL: ShapeConstraints = ShapeConstraints {
         component: 2,
-        positive: true,
-        increasing_x: true,
-        increasing_y: true,
+        value: Some(Tau::Plus),
+        slope_x: Some(Tau::Plus),
+        slope_y: Some(Tau::Plus),
         extra_per_side: 3,
+        extra_points: Vec::new(),
     };
 
     #[test]
@@ -326,9 +457,9 @@ mod tests {
         };
         let b = interpolant(&s, &f);
         let none = ShapeConstraints {
-            positive: false,
-            increasing_x: false,
-            increasing_y: false,
+            value: None,
+            slope_x: None,
+            slope_y: None,
             ..ALL
         };
         let free = shape_preserving_fill(&s, &b, &mask, 2, &none).unwrap();
@@ -338,8 +469,8 @@ mod tests {
             SOLVE
         );
         let pos = ShapeConstraints {
-            increasing_x: false,
-            increasing_y: false,
+            slope_x: None,
+            slope_y: None,
             ..ALL
         };
         let fill = shape_preserving_fill(&s, &b, &mask, 2, &pos).unwrap();
@@ -360,13 +491,60 @@ mod tests {
         let f = |x: f64, y: f64| [[x, 1.0, 0.0, 0.0], [y, 0.0, 1.0, 0.0], [-x, -1.0, 0.0, 0.0]];
         let b = interpolant(&s, &f);
         let inc = ShapeConstraints {
-            positive: false,
-            increasing_y: false,
+            value: None,
+            slope_y: None,
             ..ALL
         };
         assert!(matches!(
             shape_preserving_fill(&s, &b, &mask, 2, &inc),
             Err(Error::Solver { .. })
         ));
+    }
+
+    #[test]
+    fn negative_sign_and_extra_points() {
+        // τ = −1 on the bowl of the positivity test turned over: −z ≤ 0 ⇔ z ≥ 0, so the
+        // solution is the mirror image of the positive one; an extra point adds one
+        // inequality per condition, a point outside H_h is refused with its label.
+        let (s, mask) = setup();
+        let f = |x: f64, y: f64| {
+            let z = 0.02 - (x - 0.5).powi(2) - (y - 0.5).powi(2);
+            [
+                [x, 1.0, 0.0, 0.0],
+                [y, 0.0, 1.0, 0.0],
+                [z, -2.0 * (x - 0.5), -2.0 * (y - 0.5), 0.0],
+            ]
+        };
+        let b = interpolant(&s, &f);
+        let neg = ShapeConstraints {
+            value: Some(Tau::Minus),
+            slope_x: None,
+            slope_y: None,
+            ..ALL
+        };
+        let base = shape_preserving_fill(&s, &b, &mask, 2, &neg).unwrap();
+        assert!(base.spline.eval(&s, 0.5, 0.5, 0, 0).unwrap()[2] <= FINITE_DIFFERENCE);
+        let more = ShapeConstraints {
+            extra_points: vec![ShapePoint {
+                uv: [0.45, 0.55],
+                label: "p".into(),
+            }],
+            ..neg.clone()
+        };
+        let with = shape_preserving_fill(&s, &b, &mask, 2, &more).unwrap();
+        assert_eq!(with.report.inequalities, base.report.inequalities + 1);
+        let outside = ShapeConstraints {
+            extra_points: vec![ShapePoint {
+                uv: [0.05, 0.5],
+                label: "the point".into(),
+            }],
+            ..neg
+        };
+        let e = shape_preserving_fill(&s, &b, &mask, 2, &outside).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("the point: constraint point (0.05, 0.5) is not in the hole"),
+            "{e}"
+        );
     }
 }

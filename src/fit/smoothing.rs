@@ -4,8 +4,6 @@
 //! 2024 §3 with ω = Ω − H_h and derivative data). One sparse Cholesky factorization of
 //! 𝒜𝒜ᵀ + ε𝓡 serves the three components.
 
-use std::collections::HashMap;
-
 use crate::error::{Error, Result};
 use crate::linalg::solve_spd;
 use crate::spline::{seminorm_gram, Cell, Space, SparseSym};
@@ -139,15 +137,16 @@ pub fn smoothing_spline(
     }
     check_unisolvent(points, opts.m)?;
 
-    // Unknowns: the functions not vanishing on ω.
-    let mut local: HashMap<usize, usize> = HashMap::new();
+    // Unknowns: the functions not vanishing on ω; `local[k]` is function k's unknown
+    // (usize::MAX for none) — an array, not a map, since it is read for every entry.
+    let mut local = vec![usize::MAX; space.dim()];
     let mut active = vec![];
     for &c in &domain {
         for k in space.cell_functions(c) {
-            local.entry(k).or_insert_with(|| {
+            if local[k] == usize::MAX {
+                local[k] = active.len();
                 active.push(k);
-                active.len() - 1
-            });
+            }
         }
     }
     let n = active.len();
@@ -158,12 +157,15 @@ pub fn smoothing_spline(
     // scattered into the sparse matrix once per cell.
     let mut blocks: Vec<Option<(Vec<usize>, Vec<f64>)>> = vec![None; grid.cell_count()];
     let mut vals = vec![];
+    // Each point's basis values, kept for the misfit after the solve (no re-evaluation).
+    let mut point_values: Vec<f64> = Vec::new();
     for (i, (&c, p)) in cells_of_points.iter().zip(points).enumerate() {
         let lb = space.eval_on_cell(c, p[0], p[1], order);
         let nl = lb.indices.len();
+        point_values.extend((0..nl).map(|l| lb.d(l, 0, 0)));
         let (loc, block) = blocks[grid.cell_index(c)].get_or_insert_with(|| {
             (
-                lb.indices.iter().map(|k| local[k]).collect(),
+                lb.indices.iter().map(|&k| local[k]).collect(),
                 vec![0.0; nl * nl],
             )
         });
@@ -189,7 +191,16 @@ pub fn smoothing_spline(
             add(d.a, d.b, &d.values[i]);
         }
     }
-    for (loc, block) in blocks.into_iter().flatten() {
+    let gram = seminorm_gram(space, opts.m, &domain)?;
+    sys.reserve(
+        blocks
+            .iter()
+            .flatten()
+            .map(|(l, _)| l.len().pow(2))
+            .sum::<usize>()
+            + gram.entries().len(),
+    );
+    for (loc, block) in blocks.iter().flatten() {
         let nl = loc.len();
         for (l, &gl) in loc.iter().enumerate() {
             for (q, &gq) in loc.iter().enumerate() {
@@ -197,11 +208,11 @@ pub fn smoothing_spline(
             }
         }
     }
-    let gram = seminorm_gram(space, opts.m, &domain)?;
-    for (i, j, v) in gram.triplets() {
-        sys.add(local[&i], local[&j], opts.epsilon * v);
+    // Duplicates are summed by `solve_spd`: no sort of the entries here.
+    for &(i, j, v) in gram.entries() {
+        sys.add(local[i], local[j], opts.epsilon * v);
     }
-    let sol = solve_spd(n, &sys.triplets(), &rhs)?;
+    let sol = solve_spd(n, sys.entries(), &rhs)?;
     let mut spline = VectorSpline::zeros(space.dim());
     for (comp, s) in sol.iter().enumerate() {
         for (l, &k) in active.iter().enumerate() {
@@ -209,9 +220,18 @@ pub fn smoothing_spline(
         }
     }
     let mut sq = 0.0;
-    for (&c, (p, v)) in cells_of_points.iter().zip(points.iter().zip(values)) {
-        let s = spline.eval_on_cell(space, c, p[0], p[1], 0, 0)?;
-        sq += (0..3).map(|k| (s[k] - v[k]).powi(2)).sum::<f64>();
+    let mut at = 0;
+    for (&c, v) in cells_of_points.iter().zip(values) {
+        // Every data point's cell has its block (made in the loop above).
+        let Some((loc, _)) = &blocks[grid.cell_index(c)] else {
+            continue;
+        };
+        let phi = &point_values[at..at + loc.len()];
+        at += loc.len();
+        for (k, vk) in v.iter().enumerate() {
+            let s: f64 = loc.iter().zip(phi).map(|(&l, &f)| sol[k][l] * f).sum();
+            sq += (s - vk).powi(2);
+        }
     }
     let empty_cells = domain
         .iter()

@@ -17,6 +17,25 @@ pub struct QpSolution {
     pub max_violation: f64,
     /// The solver's own status, for reports.
     pub status: String,
+    /// The violation the solver's stopping rule allows: ‖Ax + s − b‖ ≤ tol_feas ·
+    /// max(1, ‖b‖∞ + ‖x‖₂ + ‖s‖₂) with the slack s = max(0, b − Ax) (clarabel's primal
+    /// residual test, without its internal equilibration scaling).
+    pub violation_tolerance: f64,
+}
+
+/// clarabel's primal feasibility tolerance tol_feas (its default, set explicitly so the
+/// reported tolerance is the one used).
+pub const QP_FEASIBILITY: f64 = 1e-8;
+
+/// The violation a QP solution with constraint data `b`, unknowns `x` and constraint
+/// values `ax` = Ax may have by the solver's own stopping rule (see
+/// [`QpSolution::violation_tolerance`]).
+pub fn violation_tolerance(b: &[f64], x: &[f64], ax: &[f64]) -> f64 {
+    let two = |v: &mut dyn Iterator<Item = f64>| v.map(|t| t * t).sum::<f64>().sqrt();
+    let nb = b.iter().fold(0.0f64, |m, t| m.max(t.abs()));
+    let nx = two(&mut x.iter().copied());
+    let ns = two(&mut ax.iter().zip(b).map(|(l, r)| (r - l).max(0.0)));
+    QP_FEASIBILITY * 1f64.max(nb + nx + ns)
 }
 
 /// Solves min ½xᵀPx + qᵀx s.t. Ax ≤ b. `p` holds P's entries (either triangle or both; the
@@ -77,6 +96,7 @@ pub fn solve_qp(
     let cones = [SupportedConeT::NonnegativeConeT(m)];
     let settings = DefaultSettingsBuilder::default()
         .verbose(false)
+        .tol_feas(QP_FEASIBILITY)
         .build()
         .map_err(|e| Error::Solver {
             failure: SolverFailure::NotConverged,
@@ -111,6 +131,7 @@ pub fn solve_qp(
     }
     let max_violation = ax.iter().zip(b).fold(0.0f64, |w, (l, r)| w.max(l - r));
     Ok(QpSolution {
+        violation_tolerance: violation_tolerance(b, &x, &ax),
         x,
         max_violation,
         status: format!("{status:?}"),

@@ -26,9 +26,20 @@ impl SparseSym {
         }
     }
 
+    /// Room for `additional` more entries (one allocation instead of repeated growth).
+    pub fn reserve(&mut self, additional: usize) {
+        self.entries.reserve(additional);
+    }
+
     /// Adds v to entry (i, j) only (callers add both triangles).
     pub fn add(&mut self, i: usize, j: usize, v: f64) {
         self.entries.push((i, j, v));
+    }
+
+    /// The entries as added, unsorted, with duplicates (their sum is the matrix): for
+    /// consumers that sum duplicates themselves (`solve_spd`), without a sort.
+    pub fn entries(&self) -> &[(usize, usize, f64)] {
+        &self.entries
     }
 
     /// Entry (i, j) (a linear scan: for checks, not for loops).
@@ -75,6 +86,9 @@ pub fn seminorm_gram(space: &dyn Space, m: usize, cells: &[Cell]) -> Result<Spar
     let (nx, ny) = space.grid().shape();
     let rule = GaussLegendre::new(space.degree() + 1)?;
     let mut g = SparseSym::new(space.dim());
+    if let Some(c) = cells.first() {
+        g.reserve(cells.len() * space.cell_functions(*c).len().pow(2));
+    }
     for &cell in cells {
         if cell.i >= nx || cell.j >= ny {
             return Err(Error::InvalidInput(format!(
@@ -82,26 +96,9 @@ pub fn seminorm_gram(space: &dyn Space, m: usize, cells: &[Cell]) -> Result<Spar
                 cell.i, cell.j
             )));
         }
-        let ([x0, x1], [y0, y1]) = space.grid().cell_bounds(cell);
         let idx = space.cell_functions(cell);
         let nl = idx.len();
-        let mut local = vec![0.0; nl * nl];
-        for (x, wx) in rule.on_interval(x0, x1) {
-            for (y, wy) in rule.on_interval(y0, y1) {
-                let lb = space.eval_on_cell(cell, x, y, m);
-                let w = wx * wy;
-                for a in 0..=m {
-                    let b = m - a;
-                    let d: Vec<f64> = (0..nl).map(|l| lb.d(l, a, b)).collect();
-                    for p in 0..nl {
-                        let dp = w * d[p];
-                        for q in 0..nl {
-                            local[p * nl + q] += dp * d[q];
-                        }
-                    }
-                }
-            }
-        }
+        let local = space.cell_seminorm_gram(cell, m, &rule);
         for p in 0..nl {
             for q in 0..nl {
                 g.add(idx[p], idx[q], local[p * nl + q]);

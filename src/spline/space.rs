@@ -1,6 +1,7 @@
 //! The `Space` abstraction every variational method is written against.
 
 use super::grid::{Cell, Grid};
+use super::quadrature::GaussLegendre;
 use crate::error::{Error, Result};
 
 /// The basis functions non-zero on one cell, with their values and partial derivatives
@@ -64,6 +65,36 @@ pub trait Space {
     /// The cells where basis function `k` is not identically zero: the rectangle of cells
     /// from the first to the last (inclusive).
     fn support(&self, k: usize) -> (Cell, Cell);
+
+    /// The Gram block ((φ_p, φ_q)ₘ over `cell`) of the cell's functions, in
+    /// [`Self::cell_functions`] order, row-major: Σ_{a+b=m} ∫ ∂ₓᵃ∂ᵧᵇφ_p ∂ₓᵃ∂ᵧᵇφ_q with
+    /// `rule` in each variable (exact for rules of degree + 1 points). This default
+    /// evaluates the basis at every point of the product rule; tensor-product spaces
+    /// override it with the factorized 1D integrals, which give the same matrix faster.
+    fn cell_seminorm_gram(&self, cell: Cell, m: usize, rule: &GaussLegendre) -> Vec<f64> {
+        let ([x0, x1], [y0, y1]) = self.grid().cell_bounds(cell);
+        let nl = self.cell_functions(cell).len();
+        let mut local = vec![0.0; nl * nl];
+        let mut d = vec![0.0; nl];
+        for (x, wx) in rule.on_interval(x0, x1) {
+            for (y, wy) in rule.on_interval(y0, y1) {
+                let lb = self.eval_on_cell(cell, x, y, m);
+                let w = wx * wy;
+                for a in 0..=m {
+                    for (l, dl) in d.iter_mut().enumerate() {
+                        *dl = lb.d(l, a, m - a);
+                    }
+                    for p in 0..nl {
+                        let dp = w * d[p];
+                        for q in 0..nl {
+                            local[p * nl + q] += dp * d[q];
+                        }
+                    }
+                }
+            }
+        }
+        local
+    }
 
     /// Locates (x, y) and evaluates the local basis there.
     ///

@@ -8,6 +8,7 @@ use super::basis1d::Basis1d;
 use super::bspline::BSpline1d;
 use super::grid::{Cell, Grid, Partition};
 use super::hermite::Hermite1d;
+use super::quadrature::GaussLegendre;
 use super::space::{LocalBasis, Space};
 use crate::error::Result;
 
@@ -126,6 +127,55 @@ impl<B: Basis1d> Space for TensorSpace<B> {
             }
         }
         LocalBasis::new(cell, self.cell_functions(cell), order, data)
+    }
+    /// (φ_aψ_b, φ_cψ_d)ₘ = Σₖ Xₖ[a, c] · Y_{m−k}[b, d] with Xₖ[a, c] = ∫ φ_a⁽ᵏ⁾φ_c⁽ᵏ⁾ over the
+    /// cell's x-interval and Y likewise (Fubini: the integrand of a tensor-product function
+    /// factorizes); each 1D integral with `rule`, as the product rule of the default does.
+    fn cell_seminorm_gram(&self, cell: Cell, m: usize, rule: &GaussLegendre) -> Vec<f64> {
+        let ([x0, x1], [y0, y1]) = self.grid.cell_bounds(cell);
+        let o = m + 1;
+        // moments[k][a * n + c] = ∫ f_a⁽ᵏ⁾ f_c⁽ᵏ⁾ for one factor.
+        let moments = |basis: &B, interval: usize, lo: f64, hi: f64| -> Vec<Vec<f64>> {
+            let n = basis.local_count();
+            let mut out = vec![vec![0.0; n * n]; o];
+            let mut v = vec![0.0; n * o];
+            for (t, w) in rule.on_interval(lo, hi) {
+                basis.eval(interval, t, m, &mut v);
+                for (k, mk) in out.iter_mut().enumerate() {
+                    for a in 0..n {
+                        let wa = w * v[a * o + k];
+                        for c in 0..n {
+                            mk[a * n + c] += wa * v[c * o + k];
+                        }
+                    }
+                }
+            }
+            out
+        };
+        let (lx, ly) = (self.bx.local_count(), self.by.local_count());
+        let xm = moments(&self.bx, cell.i, x0, x1);
+        let ym = moments(&self.by, cell.j, y0, y1);
+        let nl = lx * ly;
+        let mut g = vec![0.0; nl * nl];
+        for k in 0..=m {
+            let (xk, yk) = (&xm[k], &ym[m - k]);
+            for a in 0..lx {
+                for c in 0..lx {
+                    let xac = xk[a * lx + c];
+                    if xac == 0.0 {
+                        continue;
+                    }
+                    for b in 0..ly {
+                        let row =
+                            &mut g[(a * ly + b) * nl + c * ly..(a * ly + b) * nl + (c + 1) * ly];
+                        for (gd, &y) in row.iter_mut().zip(&yk[b * ly..(b + 1) * ly]) {
+                            *gd += xac * y;
+                        }
+                    }
+                }
+            }
+        }
+        g
     }
     fn support(&self, k: usize) -> (Cell, Cell) {
         let ny = self.by.dim();
@@ -412,5 +462,56 @@ mod tests {
         assert!(s.evaluate(&c, 5.0, 0.0, 0, 0).is_err());
         assert!(s.evaluate(&c, f64::NAN, 0.0, 0, 0).is_err());
         assert!(s.evaluate(&c[1..], 0.0, 0.0, 0, 0).is_err());
+    }
+
+    /// The default `cell_seminorm_gram` (basis evaluated at every product-rule point), for
+    /// comparison with the factorized override.
+    struct Pointwise<'a>(&'a dyn Space);
+    impl Space for Pointwise<'_> {
+        fn grid(&self) -> &Grid {
+            self.0.grid()
+        }
+        fn dim(&self) -> usize {
+            self.0.dim()
+        }
+        fn degree(&self) -> usize {
+            self.0.degree()
+        }
+        fn smoothness(&self) -> usize {
+            self.0.smoothness()
+        }
+        fn cell_functions(&self, cell: Cell) -> Vec<usize> {
+            self.0.cell_functions(cell)
+        }
+        fn eval_on_cell(&self, cell: Cell, x: f64, y: f64, order: usize) -> LocalBasis {
+            self.0.eval_on_cell(cell, x, y, order)
+        }
+        fn support(&self, k: usize) -> (Cell, Cell) {
+            self.0.support(k)
+        }
+    }
+
+    #[test]
+    fn factorized_cell_gram_equals_the_pointwise_one() {
+        let (x, y) = nonuniform();
+        let spaces: Vec<Box<dyn Space>> = vec![
+            Box::new(TensorSpace::bspline(x.clone(), y.clone(), 2).unwrap()),
+            Box::new(TensorSpace::bspline(x.clone(), y.clone(), 3).unwrap()),
+            Box::new(TensorSpace::bfs_c1(x.clone(), y.clone()).unwrap()),
+            Box::new(TensorSpace::bfs_c2(x, y).unwrap()),
+        ];
+        for s in &spaces {
+            let rule = GaussLegendre::new(s.degree() + 1).unwrap();
+            for m in 1..=s.smoothness() + 1 {
+                for cell in s.grid().cells() {
+                    let fast = s.cell_seminorm_gram(cell, m, &rule);
+                    let slow = Pointwise(s.as_ref()).cell_seminorm_gram(cell, m, &rule);
+                    let scale = slow.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                    for (f, p) in fast.iter().zip(&slow) {
+                        assert_near!(f / scale, p / scale, ROUND_OFF);
+                    }
+                }
+            }
+        }
     }
 }
