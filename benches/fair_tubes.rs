@@ -166,7 +166,7 @@ fn main() -> surfkit::Result<()> {
             }
         );
         println!(
-            "        {}; converged {}; CPU {cpu:.1} s on {} threads, {:.1} s in {} Hessians, \
+            "        {}; converged {} stalled {}; CPU {cpu:.1} s on {} threads, {:.1} s in {} Hessians, \
              {:.1} s in {} factorizations; {}",
             if levels > 0 {
                 format!("{n} tubes refined {levels}x")
@@ -174,6 +174,7 @@ fn main() -> surfkit::Result<()> {
                 format!("{n} tubes raw")
             },
             report.newton.converged,
+            report.newton.stalled,
             rayon::current_num_threads(),
             report.newton.hessian_seconds,
             report.newton.hessian_evaluations,

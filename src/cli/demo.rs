@@ -199,11 +199,7 @@ fn fairing(out: &Path) -> crate::Result<()> {
         change.std_h_after,
         report.free_vertices,
         report.newton.hessian_evaluations,
-        if report.newton.converged {
-            ""
-        } else {
-            " (not converged)"
-        }
+        report.newton.status_note()
     );
     println!("wrote:");
     println!(

@@ -263,7 +263,7 @@ pub fn run(args: &FairArgs) -> crate::Result<()> {
             report.final_gradient_norm,
             n.iterations.len(),
             n.hessian_evaluations,
-            if n.converged { "" } else { " (not converged)" }
+            n.status_note()
         );
         if let Some(path) = &written.samples {
             println!(

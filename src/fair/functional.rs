@@ -13,6 +13,8 @@
 use std::collections::HashMap;
 use std::ops::Range;
 
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, MatRef, Par};
 use num_dual::DualNum;
 use rayon::prelude::*;
 
@@ -204,10 +206,13 @@ struct Partial {
     values: Vec<[[f64; 3]; 3]>,
     /// The point Hessian.
     h: Box<PointMatrix>,
-    /// `right[l][3d + a][b] = Σ_e c_l[e] h[3d + a][3e + b]`.
-    right: Vec<[[f64; 3]; VARS]>,
-    /// The patch matrix: 3 × 3 blocks (row-major in a, b) of vertex pairs k ≤ l.
-    local: Vec<[f64; 9]>,
+    /// The patch's points' maps J_p = C_p ⊗ I₃ from vertex to derivative coordinates,
+    /// stacked: 27 rows per point, 3 columns per vertex.
+    maps: Mat<f64>,
+    /// The same rows multiplied by the points' Hessians: H_p J_p.
+    weighted: Mat<f64>,
+    /// The patch matrix Σ_p J_pᵀ H_p J_p over the patch's vertex coordinates.
+    local: Mat<f64>,
 }
 
 impl Partial {
@@ -217,8 +222,9 @@ impl Partial {
             g: vec![0.0; 3 * free_count],
             values: vec![[[0.0; 3]; 3]; blocks],
             h: Box::new([[0.0; VARS]; VARS]),
-            right: Vec::new(),
-            local: Vec::new(),
+            maps: Mat::new(),
+            weighted: Mat::new(),
+            local: Mat::new(),
         }
     }
 
@@ -413,13 +419,17 @@ impl<'a, R: Representation> Functional<'a, R> {
         }
     }
 
-    /// Adds one patch's terms, gradient and Hessian blocks to `acc`.
+    /// Adds one patch's terms, gradient and Hessian blocks to `acc`: the patch matrix
+    /// Σ_p J_pᵀ H_p J_p is two dense products (faer's SIMD kernels) over the stacked
+    /// points, then scattered once into the sparse blocks.
     fn add_patch_hessian(&self, group: &Group, positions: &[[f64; 3]], acc: &mut Partial) {
         let points = self.rep.points();
         let m = points[group.points.start].vertices.len();
-        acc.local.clear();
-        acc.local.resize(m * m, [0.0; 9]);
-        for k in group.points.clone() {
+        let rows = VARS * group.points.len();
+        acc.maps.resize_with(rows, 3 * m, |_, _| 0.0);
+        acc.maps.fill(0.0);
+        acc.weighted.resize_with(rows, 3 * m, |_, _| 0.0);
+        for (i, k) in group.points.clone().enumerate() {
             let p = &points[k];
             let x = point_derivatives(self.rep, k, positions);
             let (ws, wq) = (p.weight_s, self.c * p.weight_q);
@@ -427,47 +437,44 @@ impl<'a, R: Representation> Functional<'a, R> {
             acc.terms.s += ws * s;
             acc.terms.q += p.weight_q * q;
             self.scatter_gradient(k, &grad, &mut acc.g);
-            let h = &*acc.h;
-            acc.right.clear();
-            for c in &p.coefficients {
-                let mut r = [[0.0; 3]; VARS];
-                for (e, &ce) in c.iter().enumerate() {
-                    if ce == 0.0 {
-                        continue;
-                    }
-                    for (rrow, hrow) in r.iter_mut().zip(h.iter()) {
-                        for b in 0..3 {
-                            rrow[b] += ce * hrow[3 * e + b];
-                        }
-                    }
-                }
-                acc.right.push(r);
-            }
-            for (kk, ck) in p.coefficients.iter().enumerate() {
-                for l in kk..m {
-                    let r = &acc.right[l];
-                    let block = &mut acc.local[kk * m + l];
-                    for (d, &cd) in ck.iter().enumerate() {
-                        if cd == 0.0 {
-                            continue;
-                        }
-                        for a in 0..3 {
-                            for b in 0..3 {
-                                block[3 * a + b] += cd * r[3 * d + a][b];
-                            }
-                        }
+            let top = VARS * i;
+            for (l, c) in p.coefficients.iter().enumerate() {
+                for (d, &cd) in c.iter().enumerate() {
+                    for a in 0..3 {
+                        acc.maps[(top + 3 * d + a, 3 * l + a)] = cd;
                     }
                 }
             }
+            let h = MatRef::from_row_major_slice(acc.h.as_flattened(), VARS, VARS);
+            matmul(
+                acc.weighted.as_mut().subrows_mut(top, VARS),
+                Accum::Replace,
+                h,
+                acc.maps.as_ref().subrows(top, VARS),
+                1.0,
+                Par::Seq,
+            );
         }
-        for (slot, local) in group.slots.iter().zip(&acc.local) {
-            if *slot == u32::MAX {
-                continue;
-            }
-            let block = &mut acc.values[*slot as usize];
-            for a in 0..3 {
-                for b in 0..3 {
-                    block[a][b] += local[3 * a + b];
+        acc.local.resize_with(3 * m, 3 * m, |_, _| 0.0);
+        matmul(
+            acc.local.as_mut(),
+            Accum::Replace,
+            acc.maps.as_ref().transpose(),
+            acc.weighted.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        for k in 0..m {
+            for l in k..m {
+                let slot = group.slots[k * m + l];
+                if slot == u32::MAX {
+                    continue;
+                }
+                let block = &mut acc.values[slot as usize];
+                for (a, row) in block.iter_mut().enumerate() {
+                    for (b, x) in row.iter_mut().enumerate() {
+                        *x += acc.local[(3 * k + a, 3 * l + b)];
+                    }
                 }
             }
         }

@@ -43,6 +43,11 @@ pub struct NewtonOptions {
     pub max_iterations: usize,
     /// Reuse the factor while a step divides ‖g‖ by at least this (§5: 4).
     pub reuse_factor: f64,
+    /// Stop after this many consecutive Newton steps with a fresh Hessian that change F by
+    /// no more than round-off and do not halve ‖g‖: the gradient has reached the
+    /// round-off floor of its evaluation and further Hessians are wasted
+    /// ([`NewtonReport::stalled`]).
+    pub stall_steps: usize,
 }
 
 impl Default for NewtonOptions {
@@ -51,6 +56,7 @@ impl Default for NewtonOptions {
             relative_gradient: 1e-8,
             max_iterations: 200,
             reuse_factor: 4.0,
+            stall_steps: 3,
         }
     }
 }
@@ -68,6 +74,22 @@ pub struct NewtonReport {
     pub hessian_seconds: f64,
     pub factorization_seconds: f64,
     pub converged: bool,
+    /// Stopped at the round-off floor before the gradient tolerance (see
+    /// [`NewtonOptions::stall_steps`]); `converged` is false then.
+    pub stalled: bool,
+}
+
+impl NewtonReport {
+    /// A parenthesized remark for printed summaries: empty when converged.
+    pub fn status_note(&self) -> &'static str {
+        if self.converged {
+            ""
+        } else if self.stalled {
+            " (stopped at the round-off floor of the gradient, above the tolerance)"
+        } else {
+            " (not converged)"
+        }
+    }
 }
 
 fn norm(v: &[f64]) -> f64 {
@@ -283,6 +305,7 @@ pub fn newton_observed<R: Representation>(
             hessian_seconds: 0.0,
             factorization_seconds: 0.0,
             converged: g0 == 0.0,
+            stalled: false,
         },
     };
     if functional.free_count() == 0 || g0 == 0.0 {
@@ -291,6 +314,8 @@ pub fn newton_observed<R: Representation>(
     }
     // The factor of the last effective Newton step (§5).
     let mut reusable: Option<Factor> = None;
+    // Consecutive fresh Newton steps that changed neither F nor ‖g‖ (see `stall_steps`).
+    let mut stalled_steps = 0;
     while run.report.iterations.len() < options.max_iterations {
         let gnorm = norm(&g);
         if gnorm <= options.relative_gradient * g0 {
@@ -344,10 +369,18 @@ pub fn newton_observed<R: Representation>(
                 ),
             });
         };
+        let (f_before, g_before) = (terms.f, norm(&g));
         *positions = trial.positions;
         (terms, g) = match gradient {
             Some(gt) => (trial.terms, gt),
             None => functional.gradient(positions),
+        };
+        let flat =
+            (terms.f - f_before).abs() <= ROUND_OFF * f_before.abs() && 2.0 * norm(&g) > g_before;
+        stalled_steps = if kind == StepKind::Newton && flat {
+            stalled_steps + 1
+        } else {
+            0
         };
         run.report.iterations.push(Iteration {
             terms,
@@ -356,6 +389,10 @@ pub fn newton_observed<R: Representation>(
             nu,
         });
         observe(run.report.iterations.last().expect("just pushed"));
+        if options.stall_steps > 0 && stalled_steps >= options.stall_steps {
+            run.report.stalled = norm(&g) > options.relative_gradient * g0;
+            break;
+        }
     }
     let mut report = run.report;
     if !report.converged {
