@@ -39,9 +39,20 @@ fn main() -> surfkit::Result<()> {
     let t = Instant::now();
     let _ = f.gradient(x);
     println!("gradient {:?}", t.elapsed());
+    let repeats: usize = std::env::var("HESSIANS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1);
     let t = Instant::now();
     let (_, g, h) = f.hessian(x);
-    println!("hessian {:?} ({} blocks)", t.elapsed(), h.blocks.len());
+    for _ in 1..repeats {
+        let _ = f.hessian(x);
+    }
+    println!(
+        "hessian {:?} each ({} blocks)",
+        t.elapsed() / repeats as u32,
+        h.blocks.len()
+    );
     let mut factorizer = Factorizer::new(f.free_count());
     let t = Instant::now();
     let factor = factorizer.factor(&h, 1e6);

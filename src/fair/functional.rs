@@ -103,10 +103,29 @@ fn point_gradient(x: &[f64; VARS], ws: f64, wq: f64) -> (f64, f64, [f64; VARS]) 
 /// The 27 × 27 Hessian of one point's weighted density.
 type PointMatrix = [[f64; VARS]; VARS];
 
+/// [`point_hessian`] compiled for the widest SIMD instructions the CPU has (pulp's
+/// runtime dispatch; the densities are inlined into it), so the same binary runs
+/// everywhere and uses AVX2/AVX-512 where present.
+struct PointHessian<'a> {
+    x: &'a [f64; VARS],
+    ws: f64,
+    wq: f64,
+    h: &'a mut PointMatrix,
+}
+
+impl pulp::WithSimd for PointHessian<'_> {
+    type Output = (f64, f64, [f64; VARS]);
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
+        point_hessian(self.x, self.ws, self.wq, self.h)
+    }
+}
+
 /// Densities, gradient and Hessian of `ws · S-density + wq · Q-density` with respect to the
 /// 27 derivative coordinates (`h` is overwritten). Q is differentiated in its own 12
 /// variables and mapped. Forward-over-reverse Hessians are symmetric up to round-off; they
 /// are averaged with their transposes.
+#[inline(always)]
 fn point_hessian(
     x: &[f64; VARS],
     ws: f64,
@@ -256,6 +275,7 @@ pub struct Functional<'a, R: Representation> {
     free_count: usize,
     blocks: Vec<(u32, u32)>,
     groups: Vec<Group>,
+    arch: pulp::Arch,
 }
 
 /// Patches per rayon task: enough work per task to amortize its partial sums.
@@ -320,6 +340,7 @@ impl<'a, R: Representation> Functional<'a, R> {
             free_count,
             blocks,
             groups,
+            arch: pulp::Arch::new(),
         }
     }
 
@@ -433,7 +454,12 @@ impl<'a, R: Representation> Functional<'a, R> {
             let p = &points[k];
             let x = point_derivatives(self.rep, k, positions);
             let (ws, wq) = (p.weight_s, self.c * p.weight_q);
-            let (s, q, grad) = point_hessian(&x, ws, wq, &mut acc.h);
+            let (s, q, grad) = self.arch.dispatch(PointHessian {
+                x: &x,
+                ws,
+                wq,
+                h: &mut acc.h,
+            });
             acc.terms.s += ws * s;
             acc.terms.q += p.weight_q * q;
             self.scatter_gradient(k, &grad, &mut acc.g);

@@ -3,26 +3,11 @@
 //! accumulation, written over [`Num`] so that [`crate::fair::tangent::Tangent`] gives the
 //! Hessian (forward-over-reverse).
 
-use crate::fair::tangent::Num;
-
-type V<T> = [T; 3];
-
-#[inline(always)]
-fn dot<T: Num>(a: &V<T>, b: &V<T>) -> T {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-#[inline(always)]
-fn cross<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
+use crate::fair::tangent::{cross, dot, Num, V};
 
 /// Q's density from `q = [p_u, p_v, ∂Δp/∂u, ∂Δp/∂v]`: with the normal n = p_u × p_v left
 /// unnormalized, ‖P x‖² = ‖x‖² − (n·x)² / ‖n‖² and ‖n‖² = EG − F².
+#[inline(always)]
 pub fn q_density<T: Num>(q: &[V<T>; 4]) -> T {
     let [pu, pv, lap_u, lap_v] = q;
     let (e, f, g) = (dot(pu, pu), dot(pu, pv), dot(pv, pv));
@@ -33,6 +18,7 @@ pub fn q_density<T: Num>(q: &[V<T>; 4]) -> T {
 }
 
 /// Q's density and its gradient with respect to `q` (same layout as `q`).
+#[inline(always)]
 pub fn q_density_gradient<T: Num>(q: &[V<T>; 4]) -> (T, [V<T>; 4]) {
     let [pu, pv, lap_u, lap_v] = q;
     let (e, f, g) = (dot(pu, pu), dot(pu, pv), dot(pv, pv));

@@ -6,23 +6,7 @@
 //! Ñ the second fundamental form times W, W² = EG − F²): along a direction with tangents
 //! (p_u′, …), H′ = (num′ − 1.5 num (W²)′ / W²) / (2 W³).
 
-use crate::fair::tangent::Num;
-
-type V<T> = [T; 3];
-
-#[inline(always)]
-fn dot<T: Num>(a: &V<T>, b: &V<T>) -> T {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-#[inline(always)]
-fn cross<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
+use crate::fair::tangent::{cross, dot, Num, V};
 
 #[inline(always)]
 fn add<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
@@ -52,6 +36,7 @@ struct Point<T> {
     w3: T,
 }
 
+#[inline(always)]
 fn point<T: Num>(pu: &V<T>, pv: &V<T>, puu: &V<T>, puv: &V<T>, pvv: &V<T>) -> Point<T> {
     let (e, f, g) = (dot(pu, pu), dot(pu, pv), dot(pv, pv));
     let n = cross(pu, pv);
@@ -90,6 +75,7 @@ struct Directional<T> {
     h: T,
 }
 
+#[inline(always)]
 fn directional<T: Num>(base: &[&V<T>; 5], p: &Point<T>, a: &Along<'_, T>) -> Directional<T> {
     let [pu, pv, puu, puv, pvv] = *base;
     let [a_pu, a_pv, a_puu, a_puv, a_pvv] = *a;
@@ -117,6 +103,7 @@ fn directional<T: Num>(base: &[&V<T>; 5], p: &Point<T>, a: &Along<'_, T>) -> Dir
 }
 
 /// The two directions of eq. 3: u and v.
+#[inline(always)]
 fn directions<T>(d: &[V<T>; 9]) -> [Along<'_, T>; 2] {
     let [_, _, puu, puv, pvv, puuu, puuv, puvv, pvvv] = d;
     [[puu, puv, puuu, puuv, puvv], [puv, pvv, puuv, puvv, pvvv]]
@@ -124,6 +111,7 @@ fn directions<T>(d: &[V<T>; 9]) -> [Along<'_, T>; 2] {
 
 /// S's density at a point with derivatives `d = [p_u, p_v, p_uu, p_uv, p_vv, p_uuu, p_uuv,
 /// p_uvv, p_vvv]` (eq. 3).
+#[inline(always)]
 pub fn s_density<T: Num>(d: &[V<T>; 9]) -> T {
     let base = [&d[0], &d[1], &d[2], &d[3], &d[4]];
     let p = point(base[0], base[1], base[2], base[3], base[4]);
@@ -148,6 +136,7 @@ struct PointBar<T> {
 /// Pushes the adjoint `h_bar` of one directional derivative back to the base quantities
 /// (`pb`) and to the nine derivatives (`out`); the direction comes with its tangents, its
 /// intermediate values and `slots`, the indices of its five tangents in `out`.
+#[inline(always)]
 fn directional_adjoint<T: Num>(
     base: &[&V<T>; 5],
     p: &Point<T>,
@@ -216,6 +205,7 @@ fn directional_adjoint<T: Num>(
 
 /// S's density and its gradient with respect to the nine derivatives (same order as `d`),
 /// by reverse accumulation through [`s_density`]'s operations.
+#[inline(always)]
 pub fn s_density_gradient<T: Num>(d: &[V<T>; 9]) -> (T, [V<T>; 9]) {
     let zero = T::constant(0.0);
     let base = [&d[0], &d[1], &d[2], &d[3], &d[4]];

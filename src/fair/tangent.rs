@@ -141,3 +141,20 @@ impl<const N: usize> Num for Tangent<N> {
         self.chain(s, 0.5 / s)
     }
 }
+
+/// A 3-vector of [`Num`]s.
+pub type V<T> = [T; 3];
+
+#[inline(always)]
+pub fn dot<T: Num>(a: &V<T>, b: &V<T>) -> T {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[inline(always)]
+pub fn cross<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
