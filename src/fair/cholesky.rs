@@ -5,7 +5,7 @@
 
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Mat, Side};
 
 use crate::error::{Error, Result, SolverFailure};
@@ -15,6 +15,10 @@ use crate::fair::functional::BlockHessian;
 pub struct Factorizer {
     n: usize,
     symbolic: Option<SymbolicLlt<usize>>,
+    /// The compressed-column pattern and the order of the entries in it, computed for the
+    /// first Hessian: every later one has the same blocks, so its values are placed
+    /// without sorting again.
+    pattern: Option<(SymbolicSparseColMat<usize>, Argsort<usize>)>,
 }
 
 /// A numeric factor of H + νI.
@@ -28,6 +32,7 @@ impl Factorizer {
         Factorizer {
             n: 3 * free_count,
             symbolic: None,
+            pattern: None,
         }
     }
 
@@ -37,25 +42,44 @@ impl Factorizer {
     /// [`Error::Solver`] with [`SolverFailure::NotPositiveDefinite`] when a pivot is not
     /// positive; [`SolverFailure::Singular`] when faer fails otherwise (out of memory).
     pub fn factor(&mut self, h: &BlockHessian, nu: f64) -> Result<Factor> {
-        let mut triplets = Vec::with_capacity(9 * h.blocks.len() + self.n);
+        let failed = |e: &dyn std::fmt::Debug| Error::Solver {
+            failure: SolverFailure::Singular,
+            detail: format!("assembling the Hessian: {e:?}"),
+        };
+        let mut values = Vec::with_capacity(9 * h.blocks.len() + self.n);
         for (&(i, j), v) in h.blocks.iter().zip(&h.values) {
-            let (i, j) = (3 * i as usize, 3 * j as usize);
             for (a, row) in v.iter().enumerate() {
                 for (b, &x) in row.iter().enumerate() {
-                    if i == j && a > b {
-                        continue;
+                    if i != j || a <= b {
+                        values.push(x);
                     }
-                    triplets.push(Triplet::new(i + a, j + b, x));
                 }
             }
         }
         // The diagonal is always in the pattern, so that every ν shares one analysis.
-        triplets.extend((0..self.n).map(|k| Triplet::new(k, k, nu)));
-        let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(self.n, self.n, &triplets)
-            .map_err(|e| Error::Solver {
-            failure: SolverFailure::Singular,
-            detail: format!("assembling the Hessian: {e:?}"),
-        })?;
+        values.extend(std::iter::repeat_n(nu, self.n));
+        if self.pattern.is_none() {
+            let mut indices = Vec::with_capacity(values.len());
+            for &(i, j) in &h.blocks {
+                let (i, j) = (3 * i as usize, 3 * j as usize);
+                for a in 0..3 {
+                    for b in 0..3 {
+                        // The upper triangle only (same order as `values`).
+                        if i != j || a <= b {
+                            indices.push(Pair::new(i + a, j + b));
+                        }
+                    }
+                }
+            }
+            indices.extend((0..self.n).map(|k| Pair::new(k, k)));
+            self.pattern = Some(
+                SymbolicSparseColMat::try_new_from_indices(self.n, self.n, &indices)
+                    .map_err(|e| failed(&e))?,
+            );
+        }
+        let (pattern, order) = self.pattern.as_ref().expect("just set");
+        let matrix = SparseColMat::new_from_argsort(pattern.clone(), order, &values)
+            .map_err(|e| failed(&e))?;
         let symbolic = match &self.symbolic {
             Some(s) => s.clone(),
             None => {
