@@ -9,8 +9,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::error::Error;
 use crate::fair::{
-    curvature_samples, optimize_observed, read_fixed, refine_surface, shape_change, tubes, EndCaps,
-    FairOptions, FairReport, Iteration, RepresentationOptions, ShapeChange,
+    curvature_samples, optimize_observed, read_fixed, refine_surface, shape_change, tubes,
+    BlockOptions, EndCaps, FairOptions, FairReport, Iteration, RepresentationOptions, ShapeChange,
 };
 use crate::mesh::io::{read, write, WriteOptions};
 use crate::mesh::PolygonMesh;
@@ -55,6 +55,13 @@ pub struct FairArgs {
     /// Folder for before/after curvature-map pictures (PNG, one colour scale for both).
     #[arg(long)]
     pub figures: Option<PathBuf>,
+    /// Use the block method of the paper's §5 with this many blocks (for large meshes:
+    /// block Newton iterations, then global Newton steps by Schwarz-preconditioned CG).
+    #[arg(long)]
+    pub blocks: Option<usize>,
+    /// Rings of edges by which each block overlaps its neighbours (with --blocks).
+    #[arg(long, default_value_t = 2)]
+    pub overlap: u32,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -187,6 +194,11 @@ fn options(args: &FairArgs) -> FairOptions {
         ..FairOptions::default()
     };
     options.newton.relative_gradient = args.tolerance;
+    options.blocks = args.blocks.map(|count| BlockOptions {
+        count,
+        overlap: args.overlap,
+        ..BlockOptions::default()
+    });
     options
 }
 
