@@ -62,6 +62,10 @@ pub struct FairArgs {
     /// Rings of edges by which each block overlaps its neighbours (with --blocks).
     #[arg(long, default_value_t = 2)]
     pub overlap: u32,
+    /// Most sweeps over the blocks before each try of the global phase (with --blocks; the
+    /// paper sweeps until every block's Newton step is effective).
+    #[arg(long, default_value_t = 30)]
+    pub max_sweeps: usize,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -197,6 +201,7 @@ fn options(args: &FairArgs) -> FairOptions {
     options.blocks = args.blocks.map(|count| BlockOptions {
         count,
         overlap: args.overlap,
+        max_sweeps: args.max_sweeps,
         ..BlockOptions::default()
     });
     options
@@ -277,6 +282,21 @@ pub fn run(args: &FairArgs) -> crate::Result<()> {
             n.hessian_evaluations,
             if n.converged { "" } else { " (not converged)" }
         );
+        if let Some(b) = &report.blocks {
+            println!(
+                "  block method: {} blocks of {}–{} vertices (coverage {:.2}), {} sweeps, {} \
+                 block Hessians (≈ {:.1} whole-surface), {} global Hessians, {} CG iterations",
+                b.blocks,
+                b.smallest_block,
+                b.largest_block,
+                b.coverage,
+                b.sweeps,
+                b.block_hessian_evaluations,
+                b.block_hessians_equivalent,
+                b.global_hessian_evaluations,
+                b.cg_iterations
+            );
+        }
         if let Some(path) = &written.samples {
             println!(
                 "  {}  (limit samples, mean curvature as quality)",

@@ -56,7 +56,7 @@ impl Default for BlockOptions {
             overlap: 2,
             block_iterations: 3,
             max_sweeps: 30,
-            max_rounds: 10,
+            max_rounds: 100,
             cg_tolerance: 1e-2,
             cg_max_iterations: 2000,
             step_halvings: 6,
