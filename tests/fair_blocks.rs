@@ -129,11 +129,11 @@ fn fair_blocks_pcg_solves_a_positive_definite_hessian_system() {
         })
         .collect();
     let mut schwarz = Schwarz::new(functional.free_count(), blocks).unwrap();
-    schwarz.factor(&h).unwrap();
-    let outcome = pcg(&h, &b, &|r| schwarz.apply(r), SOLVE, 10 * n);
+    schwarz.factor(&h, 0.0).unwrap();
+    let outcome = pcg(&h, 0.0, &b, &|r| schwarz.apply(r), SOLVE, 10 * n);
     assert_eq!(outcome.stop, CgStop::Converged);
     // The preconditioner must pay: far fewer iterations than unknowns.
-    let plain_cg = pcg(&h, &b, &|r| r.to_vec(), SOLVE, 10 * n);
+    let plain_cg = pcg(&h, 0.0, &b, &|r| r.to_vec(), SOLVE, 10 * n);
     eprintln!(
         "{n} unknowns: Schwarz-preconditioned CG {} iterations, unpreconditioned {} ({:?})",
         outcome.iterations, plain_cg.iterations, plain_cg.stop

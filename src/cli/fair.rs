@@ -66,6 +66,10 @@ pub struct FairArgs {
     /// paper sweeps until every block's Newton step is effective).
     #[arg(long, default_value_t = 30)]
     pub max_sweeps: usize,
+    /// With --blocks: search the Levenberg–Marquardt trajectory with PCG when a global
+    /// Newton system fails, before going back to block iterations (beyond the paper).
+    #[arg(long)]
+    pub global_lm: bool,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -202,6 +206,7 @@ fn options(args: &FairArgs) -> FairOptions {
         count,
         overlap: args.overlap,
         max_sweeps: args.max_sweeps,
+        global_lm: args.global_lm,
         ..BlockOptions::default()
     });
     options

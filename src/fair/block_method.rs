@@ -47,6 +47,11 @@ pub struct BlockOptions {
     /// Halvings of a global step that does not decrease F before going back to block
     /// iterations (a safeguard beyond the paper, which goes back at once).
     pub step_halvings: usize,
+    /// When the global Newton system fails (an A_b or H not positive definite, no
+    /// decrease), search the Levenberg–Marquardt trajectory (eq. 8–9) with PCG on
+    /// H + νI before going back to block iterations. Not in the paper's block method
+    /// (which goes back at once); measured to be needed far from the optimum here.
+    pub global_lm: bool,
 }
 
 impl Default for BlockOptions {
@@ -60,6 +65,7 @@ impl Default for BlockOptions {
             cg_tolerance: 1e-2,
             cg_max_iterations: 2000,
             step_halvings: 6,
+            global_lm: false,
         }
     }
 }
@@ -84,6 +90,8 @@ pub enum BlockPhase {
         reused_hessian: bool,
         /// 1 for the Newton step; less when it was halved to decrease F.
         step_length: f64,
+        /// ν of eq. 9 (0: Newton).
+        nu: f64,
     },
     /// The final phase gave up and went back to block iterations.
     BackToBlocks { reason: String },
@@ -127,6 +135,19 @@ fn moved(positions: &[[f64; 3]], free: &[u32], delta: &[f64], length: f64) -> Ve
         }
     }
     out
+}
+
+/// Mean absolute diagonal entry of `h`: the scale of ν.
+fn diagonal_scale(h: &BlockHessian) -> f64 {
+    let (sum, count) = h
+        .blocks
+        .iter()
+        .zip(&h.values)
+        .filter(|(b, _)| b.0 == b.1)
+        .fold((0.0, 0usize), |(s, c), (_, v)| {
+            (s + v[0][0].abs() + v[1][1].abs() + v[2][2].abs(), c + 3)
+        });
+    (sum / count.max(1) as f64).max(f64::MIN_POSITIVE)
 }
 
 fn decreases(new: f64, old: f64) -> bool {
@@ -236,34 +257,64 @@ impl<R: Representation> Run<'_, '_, R> {
                     self.blocks_report.global_hessian_evaluations += 1;
                     self.report.hessian_seconds += clock.elapsed().as_secs_f64();
                     (*terms, *g) = (t, gh);
+                    h
+                }
+            };
+            let gnorm = norm(g);
+            let scale = diagonal_scale(&h);
+            // ν = 0 (Newton, eq. 7); with `global_lm`, then ν growing by 4 from 1e-3 of
+            // the diagonal's scale (the Levenberg–Marquardt trajectory, eq. 9).
+            let trials = if self.options.global_lm && !reused {
+                40
+            } else {
+                1
+            };
+            let mut reason = String::new();
+            let mut accepted = false;
+            for trial in 0..trials {
+                let nu = if trial == 0 {
+                    0.0
+                } else {
+                    scale * 1e-3 * 4f64.powi(trial - 1)
+                };
+                if !reused {
                     let clock = Instant::now();
-                    let factored = schwarz.factor(&h);
+                    let factored = schwarz.factor(&h, nu);
                     self.report.factorizations += schwarz.len();
                     let seconds = clock.elapsed().as_secs_f64();
                     self.report.factorization_seconds += seconds;
                     self.blocks_report.preconditioner_seconds += seconds;
                     if let Err(e) = factored {
-                        self.back(format!("a block of the Hessian: {e}"));
-                        return Final::BackToBlocks;
+                        reason = format!("a block of the Hessian + {nu:e} I: {e}");
+                        continue;
                     }
-                    h
                 }
-            };
-            let gnorm = norm(g);
-            let tolerance = (gnorm / g0).clamp(1e-10, self.options.cg_tolerance);
-            let minus_g: Vec<f64> = g.iter().map(|x| -x).collect();
-            let clock = Instant::now();
-            let cg = pcg(
-                &h,
-                &minus_g,
-                &|r| schwarz.apply(r),
-                tolerance,
-                self.options.cg_max_iterations,
-            );
-            self.blocks_report.cg_seconds += clock.elapsed().as_secs_f64();
-            self.blocks_report.cg_iterations += cg.iterations;
-            let mut accepted = false;
-            if cg.stop == CgStop::Converged {
+                let tolerance = (gnorm / g0).clamp(1e-10, self.options.cg_tolerance);
+                let minus_g: Vec<f64> = g.iter().map(|x| -x).collect();
+                let clock = Instant::now();
+                let cg = pcg(
+                    &h,
+                    nu,
+                    &minus_g,
+                    &|r| schwarz.apply(r),
+                    tolerance,
+                    self.options.cg_max_iterations,
+                );
+                self.blocks_report.cg_seconds += clock.elapsed().as_secs_f64();
+                self.blocks_report.cg_iterations += cg.iterations;
+                reason = match cg.stop {
+                    CgStop::Converged => {
+                        "neither the Newton step nor its halvings decrease F".to_string()
+                    }
+                    CgStop::Indefinite => "CG met a direction with pᵀHp ≤ 0".to_string(),
+                    CgStop::IterationLimit => format!(
+                        "CG reached {} iterations (relative residual {:e})",
+                        cg.iterations, cg.relative_residual
+                    ),
+                };
+                if cg.stop != CgStop::Converged {
+                    continue;
+                }
                 // The full step, then (a safeguard, not in the paper) halved steps: a CG
                 // iterate with positive curvatures throughout is a descent direction.
                 let mut length = 1.0;
@@ -273,19 +324,22 @@ impl<R: Representation> Run<'_, '_, R> {
                     let gt_norm = norm(&gt);
                     if decreases(t.f, terms.f) && gt_norm.is_finite() {
                         accepted = true;
-                        if length == 1.0 && gt_norm * self.newton.reuse_factor <= gnorm {
-                            kept = Some(h);
+                        if length == 1.0 && nu == 0.0 && gt_norm * self.newton.reuse_factor <= gnorm
+                        {
+                            kept = Some(h.clone());
                         }
                         (*positions, *terms, *g) = (trial, t, gt);
                         let it = Iteration {
                             terms: *terms,
                             gradient_norm: gt_norm,
-                            step: if reused {
+                            step: if nu > 0.0 {
+                                StepKind::LevenbergMarquardt
+                            } else if reused {
                                 StepKind::ReusedNewton
                             } else {
                                 StepKind::Newton
                             },
-                            nu: None,
+                            nu: (nu > 0.0).then_some(nu),
                         };
                         self.report.iterations.push(it);
                         observe(&it);
@@ -296,6 +350,7 @@ impl<R: Representation> Run<'_, '_, R> {
                             cg_relative_residual: cg.relative_residual,
                             reused_hessian: reused,
                             step_length: length,
+                            nu,
                         });
                         break;
                     }
@@ -304,18 +359,11 @@ impl<R: Representation> Run<'_, '_, R> {
                     }
                     length *= 0.5;
                 }
+                if accepted {
+                    break;
+                }
             }
             if !accepted && !reused {
-                let reason = match cg.stop {
-                    CgStop::Converged => {
-                        "neither the Newton step nor its halvings decrease F".to_string()
-                    }
-                    CgStop::Indefinite => "CG met a direction with pᵀHp ≤ 0".to_string(),
-                    CgStop::IterationLimit => format!(
-                        "CG reached {} iterations (relative residual {:e})",
-                        cg.iterations, cg.relative_residual
-                    ),
-                };
                 self.back(reason);
                 return Final::BackToBlocks;
             }

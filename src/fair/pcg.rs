@@ -76,10 +76,11 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// Solves H x = b from x = 0 by CG preconditioned with `precondition` (r ↦ B⁻¹ r, which
+/// Solves (H + `shift` I) x = b from x = 0 by CG preconditioned with `precondition` (r ↦ B⁻¹ r, which
 /// must be symmetric positive definite), until ‖r‖ ≤ `tolerance` · ‖b‖.
 pub fn pcg(
     h: &BlockHessian,
+    shift: f64,
     b: &[f64],
     precondition: &dyn Fn(&[f64]) -> Vec<f64>,
     tolerance: f64,
@@ -106,7 +107,12 @@ pub fn pcg(
         if rz.is_nan() || rz <= 0.0 {
             return outcome(x, k, residual, CgStop::Indefinite);
         }
-        let hp = multiply(h, &p);
+        let mut hp = multiply(h, &p);
+        if shift != 0.0 {
+            for (y, x) in hp.iter_mut().zip(&p) {
+                *y += shift * x;
+            }
+        }
         let curvature = dot(&p, &hp);
         if curvature.is_nan() || curvature <= 0.0 {
             return outcome(x, k, residual, CgStop::Indefinite);
@@ -168,7 +174,7 @@ mod tests {
         let h = matrix(0.0);
         let b = vec![1.0, -2.0, 0.5, 3.0, 0.0, 1.0];
         let identity = |r: &[f64]| r.to_vec();
-        let out = pcg(&h, &b, &identity, 1e-12, 100);
+        let out = pcg(&h, 0.0, &b, &identity, 1e-12, 100);
         assert_eq!(out.stop, CgStop::Converged);
         let r: f64 = multiply(&h, &out.x)
             .iter()
@@ -177,7 +183,7 @@ mod tests {
             .sum::<f64>()
             .sqrt();
         assert!(r <= 1e-12 * dot(&b, &b).sqrt());
-        let out = pcg(&matrix(-10.0), &b, &identity, 1e-12, 100);
+        let out = pcg(&matrix(-10.0), 0.0, &b, &identity, 1e-12, 100);
         assert_eq!(out.stop, CgStop::Indefinite);
     }
 }

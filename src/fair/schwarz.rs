@@ -71,12 +71,12 @@ impl Schwarz {
         self.parts.is_empty()
     }
 
-    /// Extracts and factors every A_b of `h` (blocks in parallel).
+    /// Extracts and factors every A_b + ν I of `h` (blocks in parallel).
     ///
     /// # Errors
     /// [`Error::Solver`] (not positive definite) when some A_b is not positive definite:
     /// the caller goes back to block iterations.
-    pub fn factor(&mut self, h: &BlockHessian) -> Result<()> {
+    pub fn factor(&mut self, h: &BlockHessian, nu: f64) -> Result<()> {
         let free_count = self.free_count;
         self.parts.par_iter_mut().try_for_each(|part| {
             part.factor = None;
@@ -96,7 +96,7 @@ impl Schwarz {
                     sub.values.push(*v);
                 }
             }
-            part.factor = Some(part.factorizer.factor(&sub, 0.0)?);
+            part.factor = Some(part.factorizer.factor(&sub, nu)?);
             Ok(())
         })
     }
