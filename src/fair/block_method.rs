@@ -14,16 +14,15 @@
 //!    A_b is not positive definite, or a fresh step does not decrease F, "a number of
 //!    additional iterations for the blocks are made" (back to 2).
 //!
-//! Measured (2 shared cores, release, gradient tolerance 1e-7; see the branch report):
-//! on the 359-vertex junction with isolation 2 and 3 nodes the method reaches the plain
-//! optimum in 10 sweeps and 2 global Hessians (tests/fair_blocks.rs); at the default
-//! isolation 4 the sweeps converge only linearly (359 vertices, 4 blocks: 154 sweeps,
-//! 261 s; plain: about 30 s per tests/fair_optimize.rs), and on the 1295-vertex junction
-//! neither this loop
-//! (8 blocks, 12 min) nor `global_lm` (200 global steps with ν ≈ 1e7–1e10) converged,
-//! where the plain method takes 61 s. One-level Schwarz on this problem (third derivatives
-//! squared: an order-6 Euler–Lagrange operator) probably needs a coarse level (the
-//! paper's planned multilevel method) to pay; not tried.
+//! Measured (2 shared cores, release): on the 359-vertex junction with isolation 2 and
+//! 3 nodes the method reaches the plain optimum in 10 sweeps and 2 global Hessians
+//! (tests/fair_blocks.rs). At the default isolation 4 the sweeps converge only linearly:
+//! 359 vertices, 4 blocks, tolerance 1e-8: 154 sweeps, 261 s (plain: about 30 s per
+//! tests/fair_optimize.rs); 1295 vertices, tolerance 1e-7: plain 61 s and 64 Hessians,
+//! while neither this loop (8 blocks, stopped after 12 min) nor `global_lm` (200 global
+//! steps at ν ≈ 1e7–1e10, F still 12× the optimum) converged. One-level Schwarz on this
+//! problem (third derivatives squared: an order-6 Euler–Lagrange operator) probably needs
+//! a coarse level (the paper's planned multilevel method) to pay; not tried.
 
 use std::time::Instant;
 
