@@ -9,8 +9,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::error::Error;
 use crate::fair::{
-    curvature_samples, optimize_observed, read_fixed, refine_surface, shape_change, tubes, EndCaps,
-    FairOptions, FairReport, Iteration, RepresentationOptions, ShapeChange,
+    curvature_samples, optimize_observed, read_fixed, refine_surface, shape_change, tubes,
+    BlockOptions, EndCaps, FairOptions, FairReport, Iteration, RepresentationOptions, ShapeChange,
 };
 use crate::mesh::io::{read, write, WriteOptions};
 use crate::mesh::PolygonMesh;
@@ -55,6 +55,21 @@ pub struct FairArgs {
     /// Folder for before/after curvature-map pictures (PNG, one colour scale for both).
     #[arg(long)]
     pub figures: Option<PathBuf>,
+    /// Use the block method of the paper's §5 with this many blocks (for large meshes:
+    /// block Newton iterations, then global Newton steps by Schwarz-preconditioned CG).
+    #[arg(long)]
+    pub blocks: Option<usize>,
+    /// Rings of edges by which each block overlaps its neighbours (with --blocks).
+    #[arg(long, default_value_t = 2)]
+    pub overlap: u32,
+    /// Most sweeps over the blocks before each try of the global phase (with --blocks; the
+    /// paper sweeps until every block's Newton step is effective).
+    #[arg(long, default_value_t = 30)]
+    pub max_sweeps: usize,
+    /// With --blocks: search the Levenberg–Marquardt trajectory with PCG when a global
+    /// Newton system fails, before going back to block iterations (beyond the paper).
+    #[arg(long)]
+    pub global_lm: bool,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -187,6 +202,13 @@ fn options(args: &FairArgs) -> FairOptions {
         ..FairOptions::default()
     };
     options.newton.relative_gradient = args.tolerance;
+    options.blocks = args.blocks.map(|count| BlockOptions {
+        count,
+        overlap: args.overlap,
+        max_sweeps: args.max_sweeps,
+        global_lm: args.global_lm,
+        ..BlockOptions::default()
+    });
     options
 }
 
@@ -265,6 +287,21 @@ pub fn run(args: &FairArgs) -> crate::Result<()> {
             n.hessian_evaluations,
             n.status_note()
         );
+        if let Some(b) = &report.blocks {
+            println!(
+                "  block method: {} blocks of {}–{} vertices (coverage {:.2}), {} sweeps, {} \
+                 block Hessians (≈ {:.1} whole-surface), {} global Hessians, {} CG iterations",
+                b.blocks,
+                b.smallest_block,
+                b.largest_block,
+                b.coverage,
+                b.sweeps,
+                b.block_hessian_evaluations,
+                b.block_hessians_equivalent,
+                b.global_hessian_evaluations,
+                b.cg_iterations
+            );
+        }
         if let Some(path) = &written.samples {
             println!(
                 "  {}  (limit samples, mean curvature as quality)",

@@ -12,37 +12,50 @@
 //!   end caps at extraordinary vertices enter S).
 //! - [`Functional`]: F, its gradient and Hessian (automatic differentiation).
 //! - [`optimize`]: the whole method on a mesh; topology and vertex order are kept.
+//! - [`block_newton`]: the block method of §5 for large meshes (Voronoi blocks with
+//!   overlaps, block iterations, global Newton by additive-Schwarz preconditioned CG),
+//!   chosen by [`FairOptions::blocks`].
 
+mod block_method;
+mod blocks;
 mod cholesky;
 mod curvature_map;
 mod disc;
 mod functional;
 mod optimize;
+mod pcg;
 mod prepare;
 mod q_density;
 mod quadrature;
 mod representation;
 mod s_density;
+mod schwarz;
 mod selection;
 mod statistics;
+mod sub_representation;
 mod surface_refine;
 mod tangent;
 mod topology;
 mod tubes;
 
+pub use block_method::{block_newton, BlockOptions, BlockPhase, BlockReport};
+pub use blocks::voronoi_blocks;
 pub use cholesky::{Factor, Factorizer};
 pub use curvature_map::curvature_samples;
 pub use disc::sector_disc;
 pub use functional::{BlockHessian, Functional, Terms};
 pub use optimize::{newton, newton_observed, Iteration, NewtonOptions, NewtonReport, StepKind};
+pub use pcg::{multiply, pcg, CgOutcome, CgStop};
 pub use prepare::{fixed_vertices, prepare};
 pub use quadrature::{gauss_legendre, MAX_NODES};
 pub use representation::{
     EndCaps, PatchRepresentation, QuadraturePoint, Representation, RepresentationOptions,
     DERIVATIVES,
 };
+pub use schwarz::Schwarz;
 pub use selection::{read_fixed, VCG_SELECTED};
 pub use statistics::{shape_change, ShapeChange};
+pub use sub_representation::SubRepresentation;
 pub use surface_refine::{drop_boundary_ring, refine_surface};
 pub use topology::{condition_violation, MeshTopology};
 pub use tubes::{tubes, MAX_TUBES};
@@ -71,6 +84,9 @@ pub struct FairOptions {
     /// level-2 optimum excites exactly the components the deeper levels penalize.
     pub warm_start_isolation: Option<u32>,
     pub warm_start_tolerance: f64,
+    /// The block method of §5 instead of Newton on all unknowns at once (for large
+    /// meshes); `None` (default): the plain method.
+    pub blocks: Option<BlockOptions>,
 }
 
 impl Default for FairOptions {
@@ -83,6 +99,7 @@ impl Default for FairOptions {
             max_refinements: 2,
             warm_start_isolation: None,
             warm_start_tolerance: 1e-4,
+            blocks: None,
         }
     }
 }
@@ -101,7 +118,10 @@ pub struct FairReport {
     pub initial_gradient_norm: f64,
     /// The warm-start stage, if any.
     pub warm_start: Option<NewtonReport>,
+    /// The global steps (the block method: its final-phase steps).
     pub newton: NewtonReport,
+    /// What the block method did, when it was chosen.
+    pub blocks: Option<BlockReport>,
     pub final_terms: Terms,
     pub final_gradient_norm: f64,
 }
@@ -209,9 +229,27 @@ pub fn optimize_observed(
         _ => None,
     };
     let g0 = norm(&functional.gradient(&positions).1);
-    let report = newton_observed(&functional, &mut positions, &options.newton, &mut |it| {
-        observe(it, g0)
-    })?;
+    let (report, blocks) = match &options.blocks {
+        None => (
+            newton_observed(&functional, &mut positions, &options.newton, &mut |it| {
+                observe(it, g0)
+            })?,
+            None,
+        ),
+        Some(block_options) => {
+            let (report, blocks) = block_newton(
+                &rep,
+                &topo,
+                &fixed,
+                c,
+                &mut positions,
+                &options.newton,
+                block_options,
+                &mut |it| observe(it, g0),
+            )?;
+            (report, Some(blocks))
+        }
+    };
     let (final_terms, g) = functional.gradient(&positions);
     let mut out = prepared.clone();
     out.positions = positions;
@@ -226,6 +264,7 @@ pub fn optimize_observed(
             initial_gradient_norm: norm(&initial_gradient),
             warm_start,
             newton: report,
+            blocks,
             final_terms,
             final_gradient_norm: norm(&g),
         },
