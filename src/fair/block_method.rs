@@ -453,6 +453,7 @@ pub fn block_newton<R: Representation>(
             hessian_seconds: 0.0,
             factorization_seconds: 0.0,
             converged: g0 == 0.0,
+            stalled: false,
         },
         blocks_report: BlockReport {
             blocks: blocks.len(),
