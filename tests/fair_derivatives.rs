@@ -124,3 +124,36 @@ fn fair_derivatives_valence_3() {
     let mesh = perturbed(sector_disc(3, 4).unwrap(), 0.1);
     check_gradient_and_hessian(&mesh, 12);
 }
+
+#[test]
+fn fair_evaluations_are_bit_identical_on_one_and_two_threads() {
+    // The partial sums follow a fixed split of the patches, so the number of cores must
+    // not change a single bit of F, its gradient or its Hessian.
+    let mesh = perturbed(sector_disc(5, 4).unwrap(), 0.1);
+    let (rep, fixed) = setup(&mesh);
+    let f = Functional::new(&rep, &fixed, 0.3);
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                let (t, g, h) = f.hessian(&mesh.positions);
+                (
+                    f.value(&mesh.positions),
+                    f.gradient(&mesh.positions),
+                    t,
+                    g,
+                    h.values,
+                )
+            })
+    };
+    let (one, two) = (run(1), run(2));
+    assert_eq!(one.0, two.0);
+    assert_eq!(one.1, two.1);
+    assert_eq!(one.2, two.2);
+    assert_eq!(one.3, two.3);
+    assert_eq!(one.4, two.4);
+    // The gradient from `gradient` and from `hessian` are the same sums.
+    assert_eq!(one.1 .1, one.3);
+}

@@ -278,10 +278,18 @@ pub struct Functional<'a, R: Representation> {
     arch: pulp::Arch,
 }
 
-/// Patches per rayon task: enough work per task to amortize its partial sums.
-fn min_groups_per_task(groups: usize) -> usize {
-    (groups / (4 * rayon::current_num_threads())).max(1)
+/// Partial sums per evaluation: a fixed split of the patches, whatever the number of
+/// cores, so that the sums are added in the same order and every run gives bit-identical
+/// results (rayon's adaptive splitting would not).
+const TASKS: usize = 8;
+
+/// Length of the [`TASKS`] chunks of `n` items.
+fn chunk_len(n: usize) -> usize {
+    n.div_ceil(TASKS).max(1)
 }
+
+/// Quadrature points per partial sum of [`Functional::value`].
+const VALUE_CHUNK: usize = 1024;
 
 impl<'a, R: Representation> Functional<'a, R> {
     /// F for `rep` with the vertices flagged in `fixed` held, and constant `c` (eq. 4).
@@ -356,17 +364,25 @@ impl<'a, R: Representation> Functional<'a, R> {
 
     /// S, Q and F at `positions` (eq. 2–5).
     pub fn value(&self, positions: &[[f64; 3]]) -> Terms {
-        let (s, q) = self
+        let partial: Vec<(f64, f64)> = self
             .rep
             .points()
-            .par_iter()
+            .par_chunks(VALUE_CHUNK)
             .enumerate()
-            .with_min_len(256)
-            .map(|(k, p)| {
-                let (s, q) = densities(&unpack(&point_derivatives(self.rep, k, positions)));
-                (p.weight_s * s, p.weight_q * q)
+            .map(|(c, chunk)| {
+                let mut sums = (0.0, 0.0);
+                for (i, p) in chunk.iter().enumerate() {
+                    let k = c * VALUE_CHUNK + i;
+                    let (s, q) = densities(&unpack(&point_derivatives(self.rep, k, positions)));
+                    sums.0 += p.weight_s * s;
+                    sums.1 += p.weight_q * q;
+                }
+                sums
             })
-            .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+            .collect();
+        let (s, q) = partial
+            .iter()
+            .fold((0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
         Terms {
             s,
             q,
@@ -400,24 +416,24 @@ impl<'a, R: Representation> Functional<'a, R> {
     pub fn gradient(&self, positions: &[[f64; 3]]) -> (Terms, Vec<f64>) {
         let total = self
             .groups
-            .par_iter()
-            .with_min_len(min_groups_per_task(self.groups.len()))
-            .fold(
-                || Partial::new(self.free_count, 0),
-                |mut acc, group| {
-                    for k in group.points.clone() {
-                        let p = &self.rep.points()[k];
-                        let x = point_derivatives(self.rep, k, positions);
-                        let (ws, wq) = (p.weight_s, self.c * p.weight_q);
-                        let (s, q, grad) = point_gradient(&x, ws, wq);
-                        acc.terms.s += ws * s;
-                        acc.terms.q += p.weight_q * q;
-                        self.scatter_gradient(k, &grad, &mut acc.g);
-                    }
-                    acc
-                },
-            )
-            .reduce(|| Partial::new(self.free_count, 0), Partial::merge);
+            .par_chunks(chunk_len(self.groups.len()))
+            .map(|chunk| {
+                let mut acc = Partial::new(self.free_count, 0);
+                for k in chunk.iter().flat_map(|group| group.points.clone()) {
+                    let p = &self.rep.points()[k];
+                    let x = point_derivatives(self.rep, k, positions);
+                    let (ws, wq) = (p.weight_s, self.c * p.weight_q);
+                    let (s, q, grad) = point_gradient(&x, ws, wq);
+                    acc.terms.s += ws * s;
+                    acc.terms.q += p.weight_q * q;
+                    self.scatter_gradient(k, &grad, &mut acc.g);
+                }
+                acc
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .reduce(Partial::merge)
+            .unwrap_or_else(|| Partial::new(self.free_count, 0));
         let mut t = total.terms;
         t.f = t.s + self.c * t.q;
         (t, total.g)
@@ -511,16 +527,18 @@ impl<'a, R: Representation> Functional<'a, R> {
         let blocks = self.blocks.len();
         let total = self
             .groups
-            .par_iter()
-            .with_min_len(min_groups_per_task(self.groups.len()))
-            .fold(
-                || Partial::new(self.free_count, blocks),
-                |mut acc, group| {
+            .par_chunks(chunk_len(self.groups.len()))
+            .map(|chunk| {
+                let mut acc = Partial::new(self.free_count, blocks);
+                for group in chunk {
                     self.add_patch_hessian(group, positions, &mut acc);
-                    acc
-                },
-            )
-            .reduce(|| Partial::new(self.free_count, blocks), Partial::merge);
+                }
+                acc
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .reduce(Partial::merge)
+            .unwrap_or_else(|| Partial::new(self.free_count, blocks));
         let mut t = total.terms;
         t.f = t.s + self.c * t.q;
         (
