@@ -166,7 +166,7 @@ fn main() -> surfkit::Result<()> {
             }
         );
         println!(
-            "        {}; converged {} stalled {}; CPU {cpu:.1} s on {} threads, {:.1} s in {} Hessians, \
+            "        {}; converged {} stalled {} stuck {}; CPU {cpu:.1} s on {} threads, {:.1} s in {} Hessians, \
              {:.1} s in {} factorizations; {}",
             if levels > 0 {
                 format!("{n} tubes refined {levels}x")
@@ -175,6 +175,7 @@ fn main() -> surfkit::Result<()> {
             },
             report.newton.converged,
             report.newton.stalled,
+            report.newton.stuck,
             rayon::current_num_threads(),
             report.newton.hessian_seconds,
             report.newton.hessian_evaluations,

@@ -454,6 +454,7 @@ pub fn block_newton<R: Representation>(
             factorization_seconds: 0.0,
             converged: g0 == 0.0,
             stalled: false,
+            stuck: false,
         },
         blocks_report: BlockReport {
             blocks: blocks.len(),

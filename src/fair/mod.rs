@@ -161,7 +161,8 @@ fn scale_constant(mesh: &PolygonMesh, held: &[bool], elements: usize) -> Result<
 /// # Errors
 /// [`Error::InvalidInput`] for an invalid mesh or options, or a closed mesh with nothing
 /// fixed; [`Error::Topology`] for a non-manifold mesh or one refinement cannot prepare;
-/// [`Error::Solver`] when the optimizer cannot decrease F; errors of OpenSubdiv.
+/// [`Error::Solver`] when F is not finite at the start; errors of OpenSubdiv. A run that
+/// stops early says why in [`NewtonReport`] (`stalled`, `stuck`).
 pub fn optimize(mesh: &PolygonMesh, options: &FairOptions) -> Result<(PolygonMesh, FairReport)> {
     optimize_observed(mesh, options, &mut |_, _| {})
 }

@@ -77,6 +77,11 @@ pub struct NewtonReport {
     /// Stopped at the round-off floor before the gradient tolerance (see
     /// [`NewtonOptions::stall_steps`]); `converged` is false then.
     pub stalled: bool,
+    /// Stopped because no step along the Levenberg–Marquardt trajectory, nor along −g,
+    /// decreased F: the gradient disagrees with F there (a nearly folded surface, where
+    /// √(EG − F²) vanishes between quadrature points, say). The positions reached are
+    /// returned; `converged` is false.
+    pub stuck: bool,
 }
 
 impl NewtonReport {
@@ -84,6 +89,8 @@ impl NewtonReport {
     pub fn status_note(&self) -> &'static str {
         if self.converged {
             ""
+        } else if self.stuck {
+            " (stopped: no step decreases F, the surface may be nearly folded)"
         } else if self.stalled {
             " (stopped at the round-off floor of the gradient, above the tolerance)"
         } else {
@@ -117,8 +124,8 @@ fn decreases(new: f64, old: f64) -> bool {
 ///
 /// # Errors
 /// [`Error::Solver`] when F or its gradient is not finite at the start (a degenerate
-/// surface) or no Levenberg–Marquardt step decreases F; the positions reached so far are
-/// kept in `positions`.
+/// surface). When no step decreases F the run stops with [`NewtonReport::stuck`] and the
+/// positions reached so far in `positions`.
 pub fn newton<R: Representation>(
     functional: &Functional<'_, R>,
     positions: &mut Vec<[f64; 3]>,
@@ -306,6 +313,7 @@ pub fn newton_observed<R: Representation>(
             factorization_seconds: 0.0,
             converged: g0 == 0.0,
             stalled: false,
+            stuck: false,
         },
     };
     if functional.free_count() == 0 || g0 == 0.0 {
@@ -360,14 +368,8 @@ pub fn newton_observed<R: Representation>(
             }
         }
         let Some((trial, gradient, kind, nu)) = step else {
-            return Err(Error::Solver {
-                failure: crate::error::SolverFailure::NotConverged,
-                detail: format!(
-                    "no step along the Levenberg–Marquardt trajectory decreases F = {:e} \
-                     (gradient norm {gnorm:e})",
-                    terms.f
-                ),
-            });
+            run.report.stuck = true;
+            break;
         };
         let (f_before, g_before) = (terms.f, norm(&g));
         *positions = trial.positions;
