@@ -52,10 +52,7 @@ fn f_at_isolation(
 ) -> surfkit::Result<f64> {
     let topo = MeshTopology::new(mesh)?;
     let fixed = fixed_vertices(&topo, 3, &[])?;
-    let mut special = vec![false; mesh.vertex_count()];
-    for v in topo.special_vertices() {
-        special[v as usize] = true;
-    }
+    let special = topo.special_flags();
     let options = surfkit::fair::RepresentationOptions {
         isolation,
         ..Default::default()
@@ -116,10 +113,7 @@ fn main() -> surfkit::Result<()> {
         };
         let topo = MeshTopology::new(&mesh)?;
         let fixed = fixed_vertices(&topo, 3, &[])?;
-        let mut special = vec![false; nv];
-        for v in topo.special_vertices() {
-            special[v as usize] = true;
-        }
+        let special = topo.special_flags();
         let rep =
             PatchRepresentation::new(&mesh, &topo.boundary, &special, &options.representation)?;
         let f = Functional::new(&rep, &fixed, report.c);

@@ -13,10 +13,7 @@ fn main() -> surfkit::Result<()> {
     let mesh = tubes(3, m, rings)?;
     let topo = MeshTopology::new(&mesh)?;
     let fixed = fixed_vertices(&topo, 3, &[])?;
-    let mut special = vec![false; mesh.vertex_count()];
-    for v in topo.special_vertices() {
-        special[v as usize] = true;
-    }
+    let special = topo.special_flags();
     let t = Instant::now();
     let rep = PatchRepresentation::new(
         &mesh,

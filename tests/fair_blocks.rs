@@ -106,10 +106,7 @@ fn fair_blocks_pcg_solves_a_positive_definite_hessian_system() {
     let (mesh, out, report) = plain();
     let topo = MeshTopology::new(mesh).unwrap();
     let fixed = fixed_vertices(&topo, 3, &[]).unwrap();
-    let mut special = vec![false; mesh.vertex_count()];
-    for v in topo.special_vertices() {
-        special[v as usize] = true;
-    }
+    let special = topo.special_flags();
     let rep = PatchRepresentation::new(mesh, &topo.boundary, &special, &representation()).unwrap();
     let functional = Functional::new(&rep, &fixed, report.c);
     let (_, _, h) = functional.hessian(&out.positions);

@@ -28,10 +28,7 @@ fn perturbed(mut mesh: PolygonMesh, amount: f64) -> PolygonMesh {
 fn setup(mesh: &PolygonMesh) -> (PatchRepresentation, Vec<bool>) {
     let topo = MeshTopology::new(mesh).unwrap();
     let fixed = fixed_vertices(&topo, 3, &[]).unwrap();
-    let mut special = vec![false; mesh.vertex_count()];
-    for v in topo.special_vertices() {
-        special[v as usize] = true;
-    }
+    let special = topo.special_flags();
     let options = RepresentationOptions {
         isolation: 2,
         ..RepresentationOptions::default()

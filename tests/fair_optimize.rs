@@ -11,10 +11,7 @@ use surfkit::fair::{
 fn statistics(mesh: &surfkit::mesh::PolygonMesh, options: &RepresentationOptions) -> (f64, f64) {
     let topo = MeshTopology::new(mesh).unwrap();
     let fixed = fixed_vertices(&topo, 3, &[]).unwrap();
-    let mut special = vec![false; mesh.vertex_count()];
-    for v in topo.special_vertices() {
-        special[v as usize] = true;
-    }
+    let special = topo.special_flags();
     let rep = PatchRepresentation::new(mesh, &topo.boundary, &special, options).unwrap();
     let f = Functional::new(&rep, &fixed, 1.0);
     let s = f.value(&mesh.positions).s;

@@ -85,6 +85,22 @@ pub struct NewtonReport {
 }
 
 impl NewtonReport {
+    /// A report of no iterations yet, from F's terms and ‖g‖ at the start.
+    pub fn new(initial: Terms, initial_gradient_norm: f64) -> Self {
+        NewtonReport {
+            initial,
+            initial_gradient_norm,
+            iterations: Vec::new(),
+            hessian_evaluations: 0,
+            factorizations: 0,
+            hessian_seconds: 0.0,
+            factorization_seconds: 0.0,
+            converged: initial_gradient_norm == 0.0,
+            stalled: false,
+            stuck: false,
+        }
+    }
+
     /// A parenthesized remark for printed summaries: empty when converged.
     pub fn status_note(&self) -> &'static str {
         if self.converged {
@@ -303,18 +319,7 @@ pub fn newton_observed<R: Representation>(
         functional,
         free: functional.free_index().to_vec(),
         factorizer: Factorizer::new(functional.free_count()),
-        report: NewtonReport {
-            initial: terms,
-            initial_gradient_norm: g0,
-            iterations: Vec::new(),
-            hessian_evaluations: 0,
-            factorizations: 0,
-            hessian_seconds: 0.0,
-            factorization_seconds: 0.0,
-            converged: g0 == 0.0,
-            stalled: false,
-            stuck: false,
-        },
+        report: NewtonReport::new(terms, g0),
     };
     if functional.free_count() == 0 || g0 == 0.0 {
         run.report.converged = true;

@@ -43,10 +43,7 @@ pub fn shape_change(
     }
     let topo = MeshTopology::new(&prepared)?;
     let fixed = fixed_vertices(&topo, options.boundary_rings, &options.fixed)?;
-    let mut special = vec![false; prepared.vertex_count()];
-    for v in topo.special_vertices() {
-        special[v as usize] = true;
-    }
+    let special = topo.special_flags();
     let rep =
         PatchRepresentation::new(&prepared, &topo.boundary, &special, &options.representation)?;
     let functional = Functional::new(&rep, &fixed, report.c);

@@ -102,6 +102,15 @@ impl MeshTopology {
             .collect()
     }
 
+    /// One flag per vertex: special (see [`MeshTopology::special_vertices`]).
+    pub fn special_flags(&self) -> Vec<bool> {
+        let mut flags = vec![false; self.neighbours.len()];
+        for v in self.special_vertices() {
+            flags[v as usize] = true;
+        }
+        flags
+    }
+
     /// Vertices on the boundary.
     pub fn boundary_vertices(&self) -> Vec<u32> {
         (0..self.boundary.len())
