@@ -1,5 +1,5 @@
 //! The optimizer on a valence-5 disc and on the author's three-tube junction (359
-//! vertices, about 30 s in release; `cargo bench --bench fair_tubes` has the paper's sizes):
+//! vertices, a few seconds in release; `cargo bench --bench fair_tubes` has the paper's sizes):
 //! S and the spread of H fall, the gradient converges below 1e-8 of its initial norm,
 //! fixed vertices are bit-identical and topology and vertex order are the input's.
 

@@ -17,8 +17,10 @@
 //! Measured (2 shared cores, release): on the 359-vertex junction with isolation 2 and
 //! 3 nodes the method reaches the plain optimum in 10 sweeps and 2 global Hessians
 //! (tests/fair_blocks.rs). At the default isolation 4 the sweeps converge only linearly:
-//! 359 vertices, 4 blocks, tolerance 1e-8: 154 sweeps, 261 s (plain: about 30 s per
-//! tests/fair_optimize.rs); 1295 vertices, tolerance 1e-7: plain 61 s and 64 Hessians,
+//! 359 vertices, 4 blocks, tolerance 1e-8: 154 sweeps and 8 global Hessians in 261 s,
+//! where the plain method needs 30 Hessians (measured before the same session made each
+//! Hessian about 2.5× cheaper, which speeds both up); 1295 vertices, tolerance 1e-7:
+//! plain 61 s and 64 Hessians,
 //! while neither this loop (8 blocks, stopped after 12 min) nor `global_lm` (200 global
 //! steps at ν ≈ 1e7–1e10, F still 12× the optimum) converged. One-level Schwarz on this
 //! problem (third derivatives squared: an order-6 Euler–Lagrange operator) probably needs
@@ -35,6 +37,7 @@ use crate::fair::representation::Representation;
 use crate::fair::schwarz::Schwarz;
 use crate::fair::sub_representation::SubRepresentation;
 use crate::fair::topology::MeshTopology;
+use crate::linalg::norm;
 use crate::tolerance::ROUND_OFF;
 
 /// Options of the block method.
@@ -128,10 +131,6 @@ pub struct BlockReport {
     pub preconditioner_seconds: f64,
     pub cg_seconds: f64,
     pub log: Vec<BlockPhase>,
-}
-
-fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
 /// `positions` with the free vertices moved by `length` · `delta`.

@@ -15,13 +15,12 @@ use std::ops::Range;
 
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatRef, Par};
-use num_dual::DualNum;
 use rayon::prelude::*;
 
 use crate::fair::q_density::{q_density, q_density_gradient};
 use crate::fair::representation::{Representation, DERIVATIVES};
 use crate::fair::s_density::{s_density, s_density_gradient};
-use crate::fair::tangent::Tangent;
+use crate::fair::tangent::{cross, dot, Num, Tangent, V};
 
 const VARS: usize = 3 * DERIVATIVES;
 
@@ -36,32 +35,14 @@ pub struct Terms {
     pub f: f64,
 }
 
-fn dot<U: DualNum + Copy>(a: &[U; 3], b: &[U; 3]) -> U {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross<U: DualNum + Copy>(a: &[U; 3], b: &[U; 3]) -> [U; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
 /// Mean curvature H = (E N − 2 F M + G L) / (2 (EG − F²)) from first and second derivatives
 /// (the normal left unnormalized: L, M, N carry a factor W = √(EG − F²)).
-fn mean_curvature<U: DualNum<Primitive = f64> + Copy>(
-    pu: &[U; 3],
-    pv: &[U; 3],
-    puu: &[U; 3],
-    puv: &[U; 3],
-    pvv: &[U; 3],
-) -> U {
+fn mean_curvature<T: Num>(pu: &V<T>, pv: &V<T>, puu: &V<T>, puv: &V<T>, pvv: &V<T>) -> T {
     let (e, f, g) = (dot(pu, pu), dot(pu, pv), dot(pv, pv));
     let n = cross(pu, pv);
     let w2 = e * g - f * f;
     let (l, m, nn) = (dot(puu, &n), dot(puv, &n), dot(pvv, &n));
-    (e * nn - f * m * 2.0 + g * l) / (w2 * w2.sqrt() * 2.0)
+    (e * nn - (f * m).scale(2.0) + g * l) / (w2 * w2.sqrt()).scale(2.0)
 }
 
 /// Number of variables of Q's density: p_u, p_v, ∂Δp/∂u, ∂Δp/∂v.
@@ -176,10 +157,6 @@ fn point_hessian(
         }
     }
     (s, q.re, g)
-}
-
-fn norm3(a: &[f64; 3]) -> f64 {
-    dot(a, a).sqrt()
 }
 
 fn unpack<T: Copy>(x: &[T]) -> [[T; 3]; DERIVATIVES] {
@@ -400,7 +377,10 @@ impl<'a, R: Representation> Functional<'a, R> {
             }
             let d = unpack(&point_derivatives(self.rep, k, positions));
             let h = mean_curvature(&d[0], &d[1], &d[2], &d[3], &d[4]);
-            let w = p.weight_s * norm3(&cross(&d[0], &d[1]));
+            let w = p.weight_s * {
+                let n = cross(&d[0], &d[1]);
+                dot(&n, &n).sqrt()
+            };
             area += w;
             sum += w * h;
             sum2 += w * h * h;
@@ -558,7 +538,35 @@ mod tests {
     use crate::assert_near;
     use crate::tolerance::ROUND_OFF;
     use nalgebra::SVector;
-    use num_dual::{hessian, Dual};
+    use num_dual::{hessian, Dual, DualNum};
+
+    // Independent formulations over num-dual's scalars (the production code uses `Num`).
+    fn ddot<U: DualNum + Copy>(a: &[U; 3], b: &[U; 3]) -> U {
+        a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    }
+
+    fn dcross<U: DualNum + Copy>(a: &[U; 3], b: &[U; 3]) -> [U; 3] {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    }
+
+    /// H = (E N − 2 F M + G L) / (2 (EG − F²)) with the unnormalized normal.
+    fn dual_mean_curvature<U: DualNum<Primitive = f64> + Copy>(
+        pu: &[U; 3],
+        pv: &[U; 3],
+        puu: &[U; 3],
+        puv: &[U; 3],
+        pvv: &[U; 3],
+    ) -> U {
+        let (e, f, g) = (ddot(pu, pu), ddot(pu, pv), ddot(pv, pv));
+        let n = dcross(pu, pv);
+        let w2 = e * g - f * f;
+        let (l, m, nn) = (ddot(puu, &n), ddot(puv, &n), ddot(pvv, &n));
+        (e * nn - f * m * 2.0 + g * l) / (w2 * w2.sqrt() * 2.0)
+    }
 
     fn point(x: f64, y: f64, r: f64) -> [[f64; 3]; DERIVATIVES] {
         // A sphere of radius r, p(u, v) = (u, v, √(r² − u² − v²)), derivatives at (x, y).
@@ -593,7 +601,7 @@ mod tests {
             std::array::from_fn(|k| Dual::new(a[k], b[k]))
         };
         // ∂H/∂u: the tangent of (p_u, p_v, p_uu, p_uv, p_vv) along u.
-        let hu = mean_curvature(
+        let hu = dual_mean_curvature(
             &lift(pu, puu),
             &lift(pv, puv),
             &lift(puu, puuu),
@@ -601,7 +609,7 @@ mod tests {
             &lift(pvv, puvv),
         )
         .eps;
-        let hv = mean_curvature(
+        let hv = dual_mean_curvature(
             &lift(pu, puv),
             &lift(pv, pvv),
             &lift(puu, puuv),
@@ -609,7 +617,7 @@ mod tests {
             &lift(pvv, pvvv),
         )
         .eps;
-        let (e, f, g) = (dot(pu, pu), dot(pu, pv), dot(pv, pv));
+        let (e, f, g) = (ddot(pu, pu), ddot(pu, pv), ddot(pv, pv));
         let w2 = e * g - f * f;
         (hu * hu * g - hu * hv * f * 2.0 + hv * hv * e) / w2.sqrt()
     }
@@ -659,14 +667,14 @@ mod tests {
     fn num_dual_q_density<T: DualNum<Primitive = f64> + Copy>(d: &[[T; 3]; DERIVATIVES]) -> T {
         let lap_u: [T; 3] = std::array::from_fn(|a| d[5][a] + d[7][a]);
         let lap_v: [T; 3] = std::array::from_fn(|a| d[6][a] + d[8][a]);
-        let n = cross(&d[0], &d[1]);
-        let nn = dot(&n, &n);
+        let n = dcross(&d[0], &d[1]);
+        let nn = ddot(&n, &n);
         let project = |x: &[T; 3]| -> [T; 3] {
-            let k = dot(&n, x) / nn;
+            let k = ddot(&n, x) / nn;
             std::array::from_fn(|a| x[a] - n[a] * k)
         };
         let (pu, pv) = (project(&lap_u), project(&lap_v));
-        dot(&pu, &pu) + dot(&pv, &pv)
+        ddot(&pu, &pu) + ddot(&pv, &pv)
     }
 
     #[test]

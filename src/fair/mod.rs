@@ -61,6 +61,7 @@ pub use topology::{condition_violation, MeshTopology};
 pub use tubes::{tubes, MAX_TUBES};
 
 use crate::error::{Error, Result};
+use crate::linalg::norm;
 use crate::mesh::PolygonMesh;
 
 /// Options of [`optimize`].
@@ -79,9 +80,10 @@ pub struct FairOptions {
     /// `warm_start_tolerance` relative gradient, then at the full level, hoping a coarse
     /// level does most of the work from a raw mesh with
     /// fewer quadrature points. `None` (default): one stage. Measured on the 1007-vertex
-    /// three-tube junction it does not pay: level 2 alone converges in 17 Hessians, but
-    /// the level-4 stage from its result needed ~200 (from the raw mesh: 71), because the
-    /// level-2 optimum excites exactly the components the deeper levels penalize.
+    /// three-tube junction with an earlier version of the optimizer, it did not pay:
+    /// level 2 alone converged in 17 Hessians, but the level-4 stage from its result
+    /// needed ~200 against 71 from the raw mesh, because the level-2 optimum excites
+    /// exactly the components the deeper levels penalize.
     pub warm_start_isolation: Option<u32>,
     pub warm_start_tolerance: f64,
     /// The block method of §5 instead of Newton on all unknowns at once (for large
@@ -124,10 +126,6 @@ pub struct FairReport {
     pub blocks: Option<BlockReport>,
     pub final_terms: Terms,
     pub final_gradient_norm: f64,
-}
-
-fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
 /// c = |E|² / D⁴ (§4), D the diameter of the surface boundary, taken as that of the

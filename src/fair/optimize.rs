@@ -9,6 +9,7 @@ use crate::error::{Error, Result};
 use crate::fair::cholesky::{Factor, Factorizer};
 use crate::fair::functional::{BlockHessian, Functional, Terms};
 use crate::fair::representation::Representation;
+use crate::linalg::norm;
 use crate::tolerance::ROUND_OFF;
 
 /// What an iteration did.
@@ -115,10 +116,6 @@ impl NewtonReport {
     }
 }
 
-fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
-}
-
 fn moved(positions: &[[f64; 3]], free: &[u32], delta: &[f64]) -> Vec<[f64; 3]> {
     let mut out = positions.to_vec();
     for (v, &i) in free.iter().enumerate() {
@@ -159,7 +156,6 @@ struct Trial {
 /// The evaluations one iteration may make, with their counters.
 struct Stepper<'a, 'r, R: Representation> {
     functional: &'a Functional<'r, R>,
-    free: Vec<u32>,
     factorizer: Factorizer,
     report: NewtonReport,
 }
@@ -189,7 +185,11 @@ impl<R: Representation> Stepper<'_, '_, R> {
         positions: &[[f64; 3]],
         f: f64,
     ) -> Option<(Trial, Vec<f64>)> {
-        let trial = moved(positions, &self.free, &factor.newton_step(g));
+        let trial = moved(
+            positions,
+            self.functional.free_index(),
+            &factor.newton_step(g),
+        );
         let (t, gt) = self.functional.gradient(&trial);
         (decreases(t.f, f) && norm(&gt).is_finite()).then_some((
             Trial {
@@ -210,7 +210,11 @@ impl<R: Representation> Stepper<'_, '_, R> {
         f: f64,
     ) -> Option<Trial> {
         let factor = self.factor(h, nu)?;
-        let trial = moved(positions, &self.free, &factor.newton_step(g));
+        let trial = moved(
+            positions,
+            self.functional.free_index(),
+            &factor.newton_step(g),
+        );
         let t = self.functional.value(&trial);
         (t.f.is_finite() && t.f < f).then_some(Trial {
             terms: t,
@@ -270,7 +274,7 @@ impl<R: Representation> Stepper<'_, '_, R> {
         let mut alpha = 1.0 / scale.max(f64::MIN_POSITIVE);
         for _ in 0..60 {
             let delta: Vec<f64> = g.iter().map(|x| -alpha * x).collect();
-            let trial = moved(positions, &self.free, &delta);
+            let trial = moved(positions, self.functional.free_index(), &delta);
             let t = self.functional.value(&trial);
             if t.f.is_finite() && t.f < f {
                 return Some(Trial {
@@ -317,7 +321,6 @@ pub fn newton_observed<R: Representation>(
     let g0 = norm(&g);
     let mut run = Stepper {
         functional,
-        free: functional.free_index().to_vec(),
         factorizer: Factorizer::new(functional.free_count()),
         report: NewtonReport::new(terms, g0),
     };

@@ -7,6 +7,7 @@
 use rayon::prelude::*;
 
 use crate::fair::functional::BlockHessian;
+use crate::linalg::dot;
 
 /// Why [`pcg`] stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -70,10 +71,6 @@ pub fn multiply(h: &BlockHessian, x: &[f64]) -> Vec<f64> {
                 a
             },
         )
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 /// Solves (H + `shift` I) x = b from x = 0 by CG preconditioned with `precondition` (r ↦ B⁻¹ r, which

@@ -6,7 +6,9 @@
 pub mod constrained;
 pub mod qp;
 pub mod spd;
+pub mod vector;
 
 pub use constrained::{minimize_with_equalities, ConstrainedSolution};
 pub use qp::{solve_qp, QpSolution};
 pub use spd::solve_spd;
+pub use vector::{dot, norm};
