@@ -10,7 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use crate::error::Error;
 use crate::fair::{
     curvature_samples, optimize_observed, read_fixed, refine_surface, shape_change, tubes,
-    BlockOptions, EndCaps, FairOptions, FairReport, Iteration, RepresentationOptions, ShapeChange,
+    BlockOptions, EndCaps, FairOptions, FairReport, Iteration, QDomain, RepresentationOptions,
+    ShapeChange,
 };
 use crate::mesh::io::{read, write, WriteOptions};
 use crate::mesh::PolygonMesh;
@@ -43,6 +44,10 @@ pub struct FairArgs {
     /// Integrate S over the end caps at extraordinary vertices too.
     #[arg(long)]
     pub end_caps_in_s: bool,
+    /// Integrate Q of the sub-patches around extraordinary vertices in their face's
+    /// parameters instead of their own (Q then grows with --isolation).
+    #[arg(long)]
+    pub q_in_face_parameters: bool,
     /// Stop when the gradient norm falls below this fraction of its initial value.
     #[arg(long, default_value_t = 1e-8)]
     pub tolerance: f64,
@@ -195,6 +200,11 @@ fn options(args: &FairArgs) -> FairOptions {
                 EndCaps::Include
             } else {
                 EndCaps::ExcludeFromS
+            },
+            q_domain: if args.q_in_face_parameters {
+                QDomain::Face
+            } else {
+                QDomain::Patch
             },
             ..RepresentationOptions::default()
         },

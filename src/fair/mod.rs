@@ -12,6 +12,8 @@
 //!   end caps at extraordinary vertices enter S).
 //! - [`Functional`]: F, its gradient and Hessian (automatic differentiation).
 //! - [`optimize`]: the whole method on a mesh; topology and vertex order are kept.
+//! - [`optimize_levels`]: coarse-to-fine, each level started from the refined optimum
+//!   of the coarser one (§6).
 //! - [`block_newton`]: the block method of §5 for large meshes (Voronoi blocks with
 //!   overlaps, block iterations, global Newton by additive-Schwarz preconditioned CG),
 //!   chosen by [`FairOptions::blocks`].
@@ -22,6 +24,7 @@ mod cholesky;
 mod curvature_map;
 mod disc;
 mod functional;
+mod levels;
 mod optimize;
 mod pcg;
 mod prepare;
@@ -44,12 +47,13 @@ pub use cholesky::{Factor, Factorizer};
 pub use curvature_map::curvature_samples;
 pub use disc::sector_disc;
 pub use functional::{BlockHessian, Functional, Terms};
+pub use levels::{optimize_levels, optimize_levels_observed, LevelReport};
 pub use optimize::{newton, newton_observed, Iteration, NewtonOptions, NewtonReport, StepKind};
 pub use pcg::{multiply, pcg, CgOutcome, CgStop};
 pub use prepare::{fixed_vertices, prepare};
 pub use quadrature::{gauss_legendre, MAX_NODES};
 pub use representation::{
-    EndCaps, PatchRepresentation, QuadraturePoint, Representation, RepresentationOptions,
+    EndCaps, PatchRepresentation, QDomain, QuadraturePoint, Representation, RepresentationOptions,
     DERIVATIVES,
 };
 pub use schwarz::Schwarz;

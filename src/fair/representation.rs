@@ -52,6 +52,24 @@ pub enum EndCaps {
     Include,
 }
 
+/// In which parameters Q (eq. 5) is integrated over a face split into sub-patches around an
+/// extraordinary vertex.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum QDomain {
+    /// Every OpenSubdiv patch is an element E_i with its own domain [0, 1]² (eq. 5 sums
+    /// over elements, each in its own parameters). Why: in the face's parameters ∇Δp of
+    /// the Catmull–Clark limit grows without bound toward an extraordinary vertex and its
+    /// square is not integrable there, so Q would grow with the isolation level (×5.3 per
+    /// level on the raw 1007-vertex junction) and make the Hessian ever stiffer; in the
+    /// sub-patch's own parameters a patch of size h weighs h⁴ as much, and Q converges.
+    /// S does not depend on the parameterization and is the same either way.
+    #[default]
+    Patch,
+    /// The face's own (u, v) ∈ [0, 1]² for all its sub-patches.
+    Face,
+}
+
 /// Options of [`PatchRepresentation::new`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct RepresentationOptions {
@@ -65,6 +83,7 @@ pub struct RepresentationOptions {
     /// effect near special vertices, §4).
     pub c_special: f64,
     pub end_caps: EndCaps,
+    pub q_domain: QDomain,
 }
 
 impl Default for RepresentationOptions {
@@ -75,6 +94,7 @@ impl Default for RepresentationOptions {
             c_ordinary: 1.0,
             c_special: 1.0,
             end_caps: EndCaps::ExcludeFromS,
+            q_domain: QDomain::Patch,
         }
     }
 }
@@ -91,9 +111,10 @@ pub struct PatchRepresentation {
 impl PatchRepresentation {
     /// Builds the quadrature rows of `mesh`'s limit surface.
     ///
-    /// Derivatives are taken with respect to each face's own (u, v) ∈ [0, 1]², so an
-    /// ordinary face is the paper's unit-square element; a sub-patch of size h contributes
-    /// area h² and derivatives scaled by h^(−order).
+    /// Derivatives are taken with respect to each patch's own (u, v) ∈ [0, 1]² (an
+    /// ordinary face is the paper's unit-square element), or with [`QDomain::Face`] to the
+    /// face's: a sub-patch of size h then contributes area h² and derivatives scaled by
+    /// h^(−order).
     ///
     /// # Errors
     /// [`Error::InvalidInput`] for a bad option (nodes, isolation, Cᵢ ≤ 0) or a face
@@ -149,7 +170,10 @@ impl PatchRepresentation {
             let mut vertices: Vec<u32> = rows.iter().flatten().map(|&(v, _)| v).collect();
             vertices.sort_unstable();
             vertices.dedup();
-            let h = patch.size;
+            let h = match options.q_domain {
+                QDomain::Patch => 1.0,
+                QDomain::Face => patch.size,
+            };
             let c = if with_special[f] {
                 options.c_special
             } else {
