@@ -8,12 +8,17 @@
 //! for one), the paper's and BSTools' on one core. OpenSubdiv's
 //! isolation level around extraordinary vertices: `FAIR_BENCH_ISOLATION` (default 4);
 //! `FAIR_BENCH_WARM_START=2` first optimizes at level 2 (see `FairOptions`).
+//!
+//! Each refined size is also run coarse-to-fine (`fair::optimize_levels`, as the paper's §6
+//! did for figure 7): from the raw coarsest mesh of its family, optimized, refined, and
+//! optimized again from the refined optimum; the time printed is the whole cascade's.
+//! `FAIR_BENCH_LEVELS=0` skips these rows.
 
 use std::time::Instant;
 
 use surfkit::fair::{
-    fixed_vertices, optimize, refine_surface, tubes, FairOptions, Functional, MeshTopology,
-    PatchRepresentation,
+    fixed_vertices, optimize, optimize_levels, refine_surface, tubes, FairOptions, Functional,
+    MeshTopology, PatchRepresentation,
 };
 
 /// (vertices, tubes, m, rings, surface refinements, paper Table 1 seconds, BSTools seconds
@@ -67,7 +72,6 @@ fn main() -> surfkit::Result<()> {
         .split(',')
         .filter_map(|s| s.trim().parse().ok())
         .collect();
-    faer::set_global_parallelism(faer::Par::Seq);
     println!(
         "{:>6} {:>6} {:>5} {:>5} {:>12} {:>12} {:>7} {:>10} {:>10} {:>9} {:>8} {:>8}",
         "n_V",
@@ -177,6 +181,48 @@ fn main() -> surfkit::Result<()> {
             report.newton.factorizations,
             isolation.join("; ")
         );
+        let cascade = std::env::var("FAIR_BENCH_LEVELS").map_or(true, |v| v != "0");
+        if cascade && levels > 0 {
+            coarse_to_fine(&tubes(n, m, rings)?, levels, &options, paper.or(bstools))?;
+        }
     }
+    Ok(())
+}
+
+/// The coarse-to-fine row: the whole cascade's wall time against the reference, and what
+/// each level took.
+fn coarse_to_fine(
+    coarse: &surfkit::mesh::PolygonMesh,
+    levels: u32,
+    options: &FairOptions,
+    reference: Option<f64>,
+) -> surfkit::Result<()> {
+    let start = Instant::now();
+    let (_, reports) = optimize_levels(coarse, levels, options)?;
+    let wall = start.elapsed().as_secs_f64();
+    let finest = &reports.last().expect("level 0 is always there").report;
+    let per_level: Vec<String> = reports
+        .iter()
+        .map(|l| {
+            format!(
+                "level {} ({} v): {} Hessians, {:.1} s{}",
+                l.level,
+                l.report.vertices,
+                l.report.newton.hessian_evaluations,
+                l.seconds,
+                l.report.newton.status_note()
+            )
+        })
+        .collect();
+    println!(
+        "{:>6} coarse-to-fine from {} vertices: F {:.6e}, |g|/|g0| {:.2e}, wall {:.1} s{}; {}",
+        finest.vertices,
+        coarse.vertex_count(),
+        finest.final_terms.f,
+        finest.final_gradient_norm / finest.initial_gradient_norm,
+        wall,
+        reference.map_or(String::new(), |r| format!(" (ratio {:.2})", r / wall)),
+        per_level.join("; ")
+    );
     Ok(())
 }

@@ -1,11 +1,13 @@
-//! The optimizer on a valence-5 disc and on the author's three-tube junction (359
-//! vertices, a few seconds in release; `cargo bench --bench fair_tubes` has the paper's sizes):
-//! S and the spread of H fall, the gradient converges below 1e-8 of its initial norm,
-//! fixed vertices are bit-identical and topology and vertex order are the input's.
+//! The optimizer on a valence-5 disc, the author's three-tube junction (359 vertices), the
+//! paper's figure-7 junction (1007) and Table 1's five tubes (1677), a few seconds each in
+//! release (`cargo bench --bench fair_tubes` has the larger sizes): S and the spread of H
+//! fall, the gradient converges below 1e-8 of its initial norm, fixed vertices are
+//! bit-identical and topology and vertex order are the input's. Coarse-to-fine
+//! ([`optimize_levels`]) reaches the same minimum as a raw start on the refined mesh.
 
 use surfkit::fair::{
-    fixed_vertices, optimize, sector_disc, tubes, FairOptions, Functional, MeshTopology,
-    PatchRepresentation, RepresentationOptions,
+    fixed_vertices, optimize, optimize_levels, refine_surface, sector_disc, tubes, FairOptions,
+    Functional, MeshTopology, PatchRepresentation, RepresentationOptions,
 };
 
 fn statistics(mesh: &surfkit::mesh::PolygonMesh, options: &RepresentationOptions) -> (f64, f64) {
@@ -36,6 +38,85 @@ fn fair_optimize_three_tubes() {
         &tubes(3, 4, 3).unwrap(),
         RepresentationOptions::default(),
         true,
+    );
+}
+
+#[test]
+fn fair_optimize_figure_7_junction() {
+    // Issue 6's acceptance case: n_V = 1007, 719 free.
+    check(
+        &tubes(3, 8, 2).unwrap(),
+        RepresentationOptions::default(),
+        true,
+    );
+}
+
+#[test]
+fn fair_optimize_five_tubes() {
+    // Table 1's first five-tube size (1677 vertices, saddles of valence 10).
+    check(
+        &tubes(5, 8, 2).unwrap(),
+        RepresentationOptions::default(),
+        true,
+    );
+}
+
+#[test]
+fn fair_optimize_levels_reach_the_raw_start_minimum() {
+    let coarse = tubes(3, 4, 3).unwrap();
+    let fine = refine_surface(&coarse, 1).unwrap();
+    let options = FairOptions {
+        max_refinements: 0,
+        ..FairOptions::default()
+    };
+    let (direct, direct_report) = optimize(&fine, &options).unwrap();
+    let (cascaded, levels) = optimize_levels(&coarse, 1, &options).unwrap();
+    assert_eq!(levels.len(), 2);
+    let finest = &levels[1].report;
+    eprintln!(
+        "raw start: F {:.9e}, {} Hessians; coarse-to-fine: F {:.9e}, {} + {} Hessians",
+        direct_report.final_terms.f,
+        direct_report.newton.hessian_evaluations,
+        finest.final_terms.f,
+        levels[0].report.newton.hessian_evaluations,
+        finest.newton.hessian_evaluations
+    );
+    assert!(direct_report.newton.converged && finest.newton.converged);
+    assert!(finest.final_gradient_norm <= 1e-8 * finest.initial_gradient_norm);
+    let (f0, f1) = (direct_report.final_terms.f, finest.final_terms.f);
+    assert!((f0 - f1).abs() <= 1e-9 * f0, "F {f0} vs {f1}");
+    assert_eq!(cascaded.face_indices, fine.face_indices);
+    let topo = MeshTopology::new(&fine).unwrap();
+    let fixed = fixed_vertices(&topo, 3, &[]).unwrap();
+    let mut largest: f64 = 0.0;
+    for (v, &held) in fixed.iter().enumerate() {
+        if held {
+            assert_eq!(
+                cascaded.positions[v].map(f64::to_bits),
+                fine.positions[v].map(f64::to_bits),
+                "fixed vertex {v}"
+            );
+        } else {
+            for a in 0..3 {
+                largest = largest.max((cascaded.positions[v][a] - direct.positions[v][a]).abs());
+            }
+        }
+    }
+    // The same minimizer, not just the same value.
+    assert!(largest < 1e-4, "free vertices differ by {largest}");
+    let err = optimize_levels(
+        &coarse,
+        1,
+        &FairOptions {
+            fixed: vec![100],
+            ..options
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("fixed vertices") && err.contains("refinement"),
+        "{err}"
     );
 }
 

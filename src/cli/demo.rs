@@ -175,14 +175,14 @@ fn fairing(out: &Path) -> crate::Result<()> {
         mesh.face_count(),
         options.newton.relative_gradient
     );
-    let (faired, report, change, seconds) =
-        super::fair::optimize_with_progress(&mesh, &options, true)?;
+    let run = super::fair::optimize_with_progress(&mesh, 0, &options, true)?;
+    let (faired, report, change, seconds) = (&run.after, run.report(), &run.change, run.seconds);
     let faired_path = dir.join("tubes_faired.obj");
-    write(&faired_path, &faired, &WriteOptions::default())?;
+    write(&faired_path, faired, &WriteOptions::default())?;
     let samples_path = dir.join("tubes_faired_samples.ply");
     let written = super::fair::write_results(
         &mesh,
-        &faired,
+        faired,
         Some(&samples_path),
         Some(&dir),
         4,

@@ -9,9 +9,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::error::Error;
 use crate::fair::{
-    curvature_samples, optimize_observed, read_fixed, refine_surface, shape_change, tubes,
-    BlockOptions, EndCaps, FairOptions, FairReport, Iteration, QDomain, RepresentationOptions,
-    ShapeChange,
+    curvature_samples, optimize_levels_observed, read_fixed, refine_surface, shape_change, tubes,
+    BlockOptions, EndCaps, FairOptions, FairReport, Iteration, LevelReport, QDomain,
+    RepresentationOptions, ShapeChange,
 };
 use crate::mesh::io::{read, write, WriteOptions};
 use crate::mesh::PolygonMesh;
@@ -75,6 +75,13 @@ pub struct FairArgs {
     /// Newton system fails, before going back to block iterations (beyond the paper).
     #[arg(long)]
     pub global_lm: bool,
+    /// Coarse-to-fine (paper §6): optimize the input, then this many times refine its
+    /// surface (Catmull–Clark dropping the boundary ring, as `gen tubes --refine`) and
+    /// optimize again from the refined optimum; writes the finest level. The finest problem
+    /// is the raw refined mesh's (its fixed vertices bit-identical), reached in a few Newton
+    /// steps instead of a long Levenberg–Marquardt phase.
+    #[arg(long, default_value_t = 0)]
+    pub levels: u32,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -168,8 +175,8 @@ impl Progress {
         }
     }
 
-    /// For `optimize_observed`: one Newton iteration done.
-    pub fn observe(&mut self, it: &Iteration, g0: f64) {
+    /// For `optimize_levels_observed`: one Newton iteration of `level` done.
+    pub fn observe(&mut self, level: u32, it: &Iteration, g0: f64) {
         self.iterations += 1;
         let ratio = if g0 > 0.0 { it.gradient_norm / g0 } else { 0.0 };
         let done = if ratio > 0.0 && self.tolerance < 1.0 {
@@ -179,7 +186,7 @@ impl Progress {
         };
         self.bar.set_position((done * Self::STEPS as f64) as u64);
         self.bar.set_message(format!(
-            "iteration {}: F {:.6e}, |g|/|g0| {ratio:.2e} → {:.0e}",
+            "level {level}, iteration {}: F {:.6e}, |g|/|g0| {ratio:.2e} → {:.0e}",
             self.iterations, it.terms.f, self.tolerance
         ));
     }
@@ -222,21 +229,57 @@ fn options(args: &FairArgs) -> FairOptions {
     options
 }
 
-/// Optimizes with a progress bar and measures the change of S and H: the shared core of
-/// `surfkit fair` and `surfkit demo`.
+/// What [`optimize_with_progress`] returns.
+pub(super) struct Optimized {
+    /// The raw mesh of the finest level (the input, prepared and refined `levels` times).
+    pub before: PolygonMesh,
+    pub after: PolygonMesh,
+    /// One report per level; the last is the finest.
+    pub levels: Vec<LevelReport>,
+    pub change: ShapeChange,
+    pub seconds: f64,
+}
+
+impl Optimized {
+    pub fn report(&self) -> &FairReport {
+        &self.levels.last().expect("level 0 is always there").report
+    }
+}
+
+/// Optimizes (coarse-to-fine over `levels` surface refinements) with a progress bar and
+/// measures the change of S and H: the shared core of `surfkit fair` and `surfkit demo`.
 pub(super) fn optimize_with_progress(
     mesh: &PolygonMesh,
+    levels: u32,
     options: &FairOptions,
     show_progress: bool,
-) -> crate::Result<(PolygonMesh, FairReport, ShapeChange, f64)> {
+) -> crate::Result<Optimized> {
     let mut progress = Progress::new(show_progress, options.newton.relative_gradient);
     let start = std::time::Instant::now();
-    let result = optimize_observed(mesh, options, &mut |it, g0| progress.observe(it, g0));
+    let result = optimize_levels_observed(mesh, levels, options, &mut |level, it, g0| {
+        progress.observe(level, it, g0)
+    });
     let seconds = start.elapsed().as_secs_f64();
     progress.finish();
-    let (out, report) = result?;
-    let change = shape_change(mesh, &out, options, &report)?;
-    Ok((out, report, change, seconds))
+    let (after, reports) = result?;
+    let (prepared, _) = crate::fair::prepare(mesh, reports[0].report.refinements)?;
+    let before = refine_surface(&prepared, levels)?;
+    let finest = FairReport {
+        refinements: 0,
+        ..reports
+            .last()
+            .expect("level 0 is always there")
+            .report
+            .clone()
+    };
+    let change = shape_change(&before, &after, options, &finest)?;
+    Ok(Optimized {
+        before,
+        after,
+        levels: reports,
+        change,
+        seconds,
+    })
 }
 
 pub fn run(args: &FairArgs) -> crate::Result<()> {
@@ -251,13 +294,12 @@ pub fn run(args: &FairArgs) -> crate::Result<()> {
     if let Some(path) = &args.fixed {
         options.fixed = read_fixed(path, mesh.vertex_count())?;
     }
-    let (out, report, change, seconds) =
-        optimize_with_progress(&mesh, &options, !args.quiet && !args.json)?;
-    write(&args.output, &out, &WriteOptions::default())?;
-    let (before, _) = crate::fair::prepare(&mesh, report.refinements)?;
+    let run = optimize_with_progress(&mesh, args.levels, &options, !args.quiet && !args.json)?;
+    let (out, report, change, seconds) = (&run.after, run.report(), &run.change, run.seconds);
+    write(&args.output, out, &WriteOptions::default())?;
     let written = write_results(
-        &before,
-        &out,
+        &run.before,
+        out,
         args.samples.as_deref(),
         args.figures.as_deref(),
         args.sample_density,
@@ -271,9 +313,24 @@ pub fn run(args: &FairArgs) -> crate::Result<()> {
             "samples": written.samples, "figures": written.figures,
             "figure_range": written.range,
             "report": report,
+            "levels": run.levels,
         });
         super::print_json(&json)?;
     } else {
+        for level in run.levels.iter().filter(|_| args.levels > 0) {
+            let r = &level.report;
+            println!(
+                "  level {}: {} vertices ({} free), F {:.6e} → {:.6e}, {} Hessians, {:.1} s{}",
+                level.level,
+                r.vertices,
+                r.free_vertices,
+                r.newton.initial.f,
+                r.final_terms.f,
+                r.newton.hessian_evaluations,
+                level.seconds,
+                r.newton.status_note()
+            );
+        }
         let n = &report.newton;
         println!(
             "{} → {}: {} vertices ({} free, {} refinements), S {:.6e} → {:.6e} (before/after \
@@ -283,7 +340,7 @@ pub fn run(args: &FairArgs) -> crate::Result<()> {
             args.output.display(),
             report.vertices,
             report.free_vertices,
-            report.refinements,
+            run.levels[0].report.refinements + args.levels,
             change.s_before,
             change.s_after,
             change.s_before / change.s_after,

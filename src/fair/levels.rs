@@ -54,6 +54,13 @@ pub fn optimize_levels_observed(
     }
     let clock = Instant::now();
     let (mut raw, refinements) = prepare(mesh, options.max_refinements)?;
+    if refinements > 0 && !options.fixed.is_empty() {
+        return Err(Error::InvalidInput(
+            "user-given fixed vertices refer to the input's ids, but the mesh needs \
+             refinement first; refine it (fair::prepare) and give ids of the refined mesh"
+                .into(),
+        ));
+    }
     let level_options = FairOptions {
         max_refinements: 0,
         ..options.clone()
