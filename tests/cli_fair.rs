@@ -412,3 +412,43 @@ fn demo_shows_fairing_of_the_three_tube_junction() {
         "{text}"
     );
 }
+
+#[test]
+fn cli_fair_levels_write_the_finest_level() {
+    let dir = tempfile::tempdir().unwrap();
+    let coarse = small_junction();
+    let input = dir.path().join("coarse.obj");
+    write(&input, &coarse, &Default::default()).unwrap();
+    let output = dir.path().join("fine.ply");
+    let run = surfkit()
+        .args(["fair", "--levels", "1", "--json", "-o"])
+        .arg(&output)
+        .arg(&input)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    let levels = report["levels"].as_array().unwrap();
+    assert_eq!(levels.len(), 2);
+    let fine = surfkit::fair::refine_surface(&coarse, 1).unwrap();
+    assert_eq!(
+        levels[1]["report"]["vertices"].as_u64().unwrap() as usize,
+        fine.vertex_count()
+    );
+    for level in levels {
+        assert!(level["report"]["newton"]["converged"].as_bool().unwrap());
+    }
+    let out = read(&output).unwrap();
+    assert_eq!(out.face_indices, fine.face_indices);
+    let fixed = fixed_vertices(&MeshTopology::new(&fine).unwrap(), 3, &[]).unwrap();
+    assert!(fixed.iter().any(|&f| !f));
+    for (v, &held) in fixed.iter().enumerate() {
+        if held {
+            assert_eq!(out.positions[v], fine.positions[v], "fixed vertex {v}");
+        }
+    }
+}
