@@ -12,7 +12,8 @@
 //! Each refined size is also run coarse-to-fine (`fair::optimize_levels`, as the paper's §6
 //! did for figure 7): from the raw coarsest mesh of its family, optimized, refined, and
 //! optimized again from the refined optimum; the time printed is the whole cascade's.
-//! `FAIR_BENCH_LEVELS=0` skips these rows.
+//! `FAIR_BENCH_LEVELS=0` skips these rows; `FAIR_BENCH_RAW=0` skips the raw-start rows of
+//! refined sizes (23997 vertices from a raw start did not converge in 25 minutes).
 
 use std::time::Instant;
 
@@ -107,37 +108,59 @@ fn main() -> surfkit::Result<()> {
         {
             options.warm_start_isolation = Some(level);
         }
-        let start = Instant::now();
-        let cpu0 = cpu_seconds();
-        let (out, report) = optimize(&mesh, &options)?;
-        let wall = start.elapsed().as_secs_f64();
-        let cpu = match (cpu0, cpu_seconds()) {
-            (Some(a), Some(b)) => b - a,
-            _ => f64::NAN,
-        };
-        let topo = MeshTopology::new(&mesh)?;
-        let fixed = fixed_vertices(&topo, 3, &[])?;
-        let special = topo.special_flags();
-        let rep =
-            PatchRepresentation::new(&mesh, &topo.boundary, &special, &options.representation)?;
-        let f = Functional::new(&rep, &fixed, report.c);
-        let (s0, s1) = (f.value(&mesh.positions).s, f.value(&out.positions).s);
-        let (sd0, sd1) = (
-            f.mean_curvature_statistics(&mesh.positions).1,
-            f.mean_curvature_statistics(&out.positions).1,
-        );
-        let reference = paper.or(bstools);
-        // How much the adaptive isolation level moves F, next to what the optimization
-        // gained (issue 6: the end-cap choice must not matter at that scale).
-        let isolation: Vec<String> = [3, 4, 5]
-            .iter()
-            .map(|&l| {
-                let f0 = f_at_isolation(&mesh, &mesh.positions, l, report.c)?;
-                let f1 = f_at_isolation(&mesh, &out.positions, l, report.c)?;
-                Ok(format!("isolation {l}: F {f0:.6e} -> {f1:.6e}"))
-            })
-            .collect::<surfkit::Result<_>>()?;
-        println!(
+        let raw = std::env::var("FAIR_BENCH_RAW").map_or(true, |v| v != "0");
+        if raw || levels == 0 {
+            raw_start(&mesh, n, levels, &options, paper, bstools)?;
+        }
+        let cascade = std::env::var("FAIR_BENCH_LEVELS").map_or(true, |v| v != "0");
+        if cascade && levels > 0 {
+            coarse_to_fine(&tubes(n, m, rings)?, levels, &options, paper.or(bstools))?;
+        }
+    }
+    Ok(())
+}
+
+/// The raw-start row: optimize `mesh` as generated (or surface-refined) and print the
+/// figures next to the reference's.
+fn raw_start(
+    mesh: &surfkit::mesh::PolygonMesh,
+    n: u32,
+    levels: u32,
+    options: &FairOptions,
+    paper: Option<f64>,
+    bstools: Option<f64>,
+) -> surfkit::Result<()> {
+    let nv = mesh.vertex_count();
+    let start = Instant::now();
+    let cpu0 = cpu_seconds();
+    let (out, report) = optimize(mesh, options)?;
+    let wall = start.elapsed().as_secs_f64();
+    let cpu = match (cpu0, cpu_seconds()) {
+        (Some(a), Some(b)) => b - a,
+        _ => f64::NAN,
+    };
+    let topo = MeshTopology::new(mesh)?;
+    let fixed = fixed_vertices(&topo, 3, &[])?;
+    let special = topo.special_flags();
+    let rep = PatchRepresentation::new(mesh, &topo.boundary, &special, &options.representation)?;
+    let f = Functional::new(&rep, &fixed, report.c);
+    let (s0, s1) = (f.value(&mesh.positions).s, f.value(&out.positions).s);
+    let (sd0, sd1) = (
+        f.mean_curvature_statistics(&mesh.positions).1,
+        f.mean_curvature_statistics(&out.positions).1,
+    );
+    let reference = paper.or(bstools);
+    // How much the adaptive isolation level moves F, next to what the optimization
+    // gained (issue 6: the end-cap choice must not matter at that scale).
+    let isolation: Vec<String> = [3, 4, 5]
+        .iter()
+        .map(|&l| {
+            let f0 = f_at_isolation(mesh, &mesh.positions, l, report.c)?;
+            let f1 = f_at_isolation(mesh, &out.positions, l, report.c)?;
+            Ok(format!("isolation {l}: F {f0:.6e} -> {f1:.6e}"))
+        })
+        .collect::<surfkit::Result<_>>()?;
+    println!(
             "{:>6} {:>6} {:>5} {:>5} {:>12.5e} {:>12.5e} {:>7.2} {:>10.4e} {:>10.4e} {:>9.2e} {:>8.1} {:>8}{}",
             nv,
             report.free_vertices,
@@ -163,7 +186,7 @@ fn main() -> surfkit::Result<()> {
                 _ => String::new(),
             }
         );
-        println!(
+    println!(
             "        {}; converged {} stalled {} stuck {}; CPU {cpu:.1} s on {} threads, {:.1} s in {} Hessians, \
              {:.1} s in {} factorizations; {}",
             if levels > 0 {
@@ -181,11 +204,6 @@ fn main() -> surfkit::Result<()> {
             report.newton.factorizations,
             isolation.join("; ")
         );
-        let cascade = std::env::var("FAIR_BENCH_LEVELS").map_or(true, |v| v != "0");
-        if cascade && levels > 0 {
-            coarse_to_fine(&tubes(n, m, rings)?, levels, &options, paper.or(bstools))?;
-        }
-    }
     Ok(())
 }
 

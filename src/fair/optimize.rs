@@ -243,7 +243,14 @@ impl<R: Representation> Stepper<'_, '_, R> {
             nu *= 4.0;
         }
         let (mut best_nu, mut best_trial) = best?;
-        for factor in [0.25, 4.0] {
+        // Below the first decreasing ν every grid value has been tried and failed: only
+        // the start itself may still improve downwards.
+        let directions: &[f64] = if best_nu == start {
+            &[0.25, 4.0]
+        } else {
+            &[4.0]
+        };
+        for &factor in directions {
             let mut moved_any = false;
             for _ in 0..30 {
                 match self.lm_trial(h, best_nu * factor, g, positions, f) {
