@@ -304,6 +304,129 @@ impl Values for BinaryValues<'_> {
     }
 }
 
+/// Where an element instance was read, for errors: its line (ASCII) or byte offset.
+#[derive(Clone, Copy)]
+struct Place {
+    line: Option<usize>,
+    byte_offset: usize,
+}
+
+impl Place {
+    /// A parse error of instance `index` of `element`, located at this place.
+    fn error(self, path: &Path, element: &Element, index: usize, msg: String) -> Error {
+        match self.line {
+            Some(l) => Error::parse(
+                path,
+                Location::Line(l),
+                format!("{} {index}: {msg}", element.name),
+            ),
+            None => Error::parse(
+                path,
+                Location::Element {
+                    kind: element.name.clone(),
+                    index,
+                    byte_offset: self.byte_offset,
+                },
+                msg,
+            ),
+        }
+    }
+}
+
+/// The body of a PLY file, read one element instance at a time: ASCII one instance per
+/// (non-blank) line, binary as a byte cursor.
+struct Body<'a> {
+    ascii: bool,
+    lines: Lines<'a>,
+    line_offset: usize,
+    /// The last line read (for "the file ends" errors).
+    last_line: usize,
+    binary: BinaryValues<'a>,
+}
+
+impl<'a> Body<'a> {
+    fn new(bytes: &'a [u8], header: &Header) -> Self {
+        let line_offset = header.body_line - 1;
+        Body {
+            ascii: header.encoding == PlyEncoding::Ascii,
+            lines: Lines::new(&bytes[header.body..]),
+            line_offset,
+            last_line: line_offset,
+            binary: BinaryValues {
+                data: bytes,
+                pos: header.body,
+                big_endian: header.encoding == PlyEncoding::BinaryBigEndian,
+            },
+        }
+    }
+
+    /// Reads instance `index` of `element` into `slots` and `lists` (see
+    /// [`read_instance`]); an ASCII line must hold exactly the declared values.
+    fn instance(
+        &mut self,
+        path: &Path,
+        element: &Element,
+        index: usize,
+        slots: &mut [f64],
+        lists: &mut [Vec<f64>],
+    ) -> Result<Place> {
+        let byte_offset = self.binary.pos;
+        if !self.ascii {
+            let place = Place {
+                line: None,
+                byte_offset,
+            };
+            read_instance(element, &mut self.binary, slots, lists)
+                .map_err(|m| place.error(path, element, index, m))?;
+            return Ok(place);
+        }
+        let (n, line) = loop {
+            match self.lines.next() {
+                Some((n, l)) if l.trim_ascii().is_empty() => self.last_line = n + self.line_offset,
+                Some((n, l)) => break (n + self.line_offset, l),
+                None => {
+                    let place = Place {
+                        line: Some(self.last_line),
+                        byte_offset,
+                    };
+                    return Err(place.error(
+                        path,
+                        element,
+                        index,
+                        format!(
+                            "the file ends after {index} of the {} {} elements the header declares",
+                            element.count, element.name
+                        ),
+                    ));
+                }
+            }
+        };
+        self.last_line = n;
+        let place = Place {
+            line: Some(n),
+            byte_offset,
+        };
+        let mut src = AsciiValues {
+            tokens: tokens(line),
+        };
+        read_instance(element, &mut src, slots, lists)
+            .map_err(|m| place.error(path, element, index, m))?;
+        if let Some(extra) = src.tokens.next() {
+            return Err(place.error(
+                path,
+                element,
+                index,
+                format!(
+                    "more values than the header declares for {} (extra {:?})",
+                    element.name,
+                    show(extra)
+                ),
+            ));
+        }
+        Ok(place)
+    }
+}
+
 /// Reads one element instance, storing the values of properties of interest in `slots`
 /// (by property position) and list items of the property at `list_of_interest` in `items`.
 fn read_instance(
@@ -389,15 +512,7 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
     // Counts are not trusted with memory: every instance takes at least one byte.
     let room = bytes.len() - header.body;
 
-    // Body readers: ASCII one instance per line, binary as a byte cursor.
-    let mut lines = Lines::new(&bytes[header.body..]);
-    let line_offset = header.body_line - 1;
-    let mut last_line = line_offset;
-    let mut binary = BinaryValues {
-        data: bytes,
-        pos: header.body,
-        big_endian: header.encoding == PlyEncoding::BinaryBigEndian,
-    };
+    let mut body = Body::new(bytes, &header);
 
     for (ei, element) in header.elements.iter().enumerate() {
         let mut slots = vec![0.0; element.properties.len()];
@@ -415,8 +530,8 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
         let big_endian = header.encoding == PlyEncoding::BinaryBigEndian;
         if header.encoding != PlyEncoding::Ascii && is_vertex && all_scalar(element) {
             let (offsets, decode, stride) = fixed_layout(element, big_endian);
-            let start = binary.pos;
-            binary.pos = ply_fast::read_fixed_records(
+            let start = body.binary.pos;
+            body.binary.pos = ply_fast::read_fixed_records(
                 bytes,
                 start,
                 element.count,
@@ -446,9 +561,9 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             mesh.face_indices
                 .reserve(element.count.min(room).saturating_mul(3));
             let keep = options.keep_degenerate;
-            binary.pos = ply_fast::read_list_faces(
+            body.binary.pos = ply_fast::read_list_faces(
                 bytes,
-                binary.pos,
+                body.binary.pos,
                 element.count,
                 (ply_fast::decoder(count.index(), big_endian), count.size()),
                 (ply_fast::decoder(item.index(), big_endian), item.size()),
@@ -481,62 +596,8 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             mesh.face_indices.reserve(element.count * 3);
         }
         for index in 0..element.count {
-            let byte_offset = binary.pos;
-            let located = |line: Option<usize>, msg: String| match line {
-                Some(l) => Error::parse(
-                    path,
-                    Location::Line(l),
-                    format!("{} {index}: {msg}", element.name),
-                ),
-                None => Error::parse(
-                    path,
-                    Location::Element {
-                        kind: element.name.clone(),
-                        index,
-                        byte_offset,
-                    },
-                    msg,
-                ),
-            };
-            let line_number = if header.encoding == PlyEncoding::Ascii {
-                let (n, line) = loop {
-                    match lines.next() {
-                        Some((n, l)) if l.trim_ascii().is_empty() => last_line = n + line_offset,
-                        Some((n, l)) => break (n + line_offset, l),
-                        None => {
-                            return Err(located(
-                                Some(last_line),
-                                format!(
-                                    "the file ends after {index} of the {} {} elements the header declares",
-                                    element.count, element.name
-                                ),
-                            ))
-                        }
-                    }
-                };
-                last_line = n;
-                let mut src = AsciiValues {
-                    tokens: tokens(line),
-                };
-                read_instance(element, &mut src, &mut slots, &mut lists)
-                    .map_err(|m| located(Some(n), m))?;
-                if let Some(extra) = src.tokens.next() {
-                    return Err(located(
-                        Some(n),
-                        format!(
-                            "more values than the header declares for {} (extra {:?})",
-                            element.name,
-                            show(extra)
-                        ),
-                    ));
-                }
-                Some(n)
-            } else {
-                read_instance(element, &mut binary, &mut slots, &mut lists)
-                    .map_err(|m| located(None, m))?;
-                None
-            };
-            let fail = |m: String| located(line_number, m);
+            let place = body.instance(path, element, index, &mut slots, &mut lists)?;
+            let fail = |m: String| place.error(path, element, index, m);
             if is_vertex {
                 vertices.push(&roles, element, &slots).map_err(fail)?;
             } else if is_face {
@@ -593,27 +654,27 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
         }
     }
     if header.encoding == PlyEncoding::Ascii {
-        if let Some((n, l)) = lines.find(|(_, l)| !l.trim_ascii().is_empty()) {
+        if let Some((n, l)) = body.lines.find(|(_, l)| !l.trim_ascii().is_empty()) {
             return Err(Error::parse(
                 path,
-                Location::Line(n + line_offset),
+                Location::Line(n + body.line_offset),
                 format!(
                     "data after the last element the header declares ({:?}): the header's counts are wrong",
                     show(l)
                 ),
             ));
         }
-    } else if binary.pos != bytes.len() {
+    } else if body.binary.pos != bytes.len() {
         return Err(Error::parse(
             path,
             Location::Element {
                 kind: "end of data".into(),
                 index: 0,
-                byte_offset: binary.pos,
+                byte_offset: body.binary.pos,
             },
             format!(
                 "{} bytes after the last element the header declares: the header's counts are wrong",
-                bytes.len() - binary.pos
+                bytes.len() - body.binary.pos
             ),
         ));
     }
@@ -810,13 +871,7 @@ pub fn read_vertex_property(
     else {
         return Ok(None);
     };
-    let mut lines = Lines::new(&bytes[header.body..]);
-    let line_offset = header.body_line - 1;
-    let mut binary = BinaryValues {
-        data: bytes,
-        pos: header.body,
-        big_endian: header.encoding == PlyEncoding::BinaryBigEndian,
-    };
+    let mut body = Body::new(bytes, &header);
     let mut values = Vec::new();
     for (ei, element) in header.elements.iter().enumerate().take(vertex + 1) {
         if element.properties.is_empty() {
@@ -825,48 +880,7 @@ pub fn read_vertex_property(
         let mut slots = vec![0.0; element.properties.len()];
         let mut lists = vec![Vec::new(); element.properties.len()];
         for index in 0..element.count {
-            let byte_offset = binary.pos;
-            let (read, line) = if header.encoding == PlyEncoding::Ascii {
-                let Some((n, line)) = lines.by_ref().find(|(_, l)| !l.trim_ascii().is_empty())
-                else {
-                    return Err(Error::parse(
-                        path,
-                        Location::File,
-                        format!(
-                            "the file ends after {index} of the {} {} elements the header declares",
-                            element.count, element.name
-                        ),
-                    ));
-                };
-                let mut src = AsciiValues {
-                    tokens: tokens(line),
-                };
-                (
-                    read_instance(element, &mut src, &mut slots, &mut lists),
-                    Some(n + line_offset),
-                )
-            } else {
-                (
-                    read_instance(element, &mut binary, &mut slots, &mut lists),
-                    None,
-                )
-            };
-            read.map_err(|m| match line {
-                Some(l) => Error::parse(
-                    path,
-                    Location::Line(l),
-                    format!("{} {index}: {m}", element.name),
-                ),
-                None => Error::parse(
-                    path,
-                    Location::Element {
-                        kind: element.name.clone(),
-                        index,
-                        byte_offset,
-                    },
-                    m,
-                ),
-            })?;
+            body.instance(path, element, index, &mut slots, &mut lists)?;
             if ei == vertex {
                 values.push(slots[k]);
             }
