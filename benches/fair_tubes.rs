@@ -216,7 +216,7 @@ fn coarse_to_fine(
     reference: Option<f64>,
 ) -> surfkit::Result<()> {
     let start = Instant::now();
-    let (_, reports) = optimize_levels(coarse, levels, options)?;
+    let reports = optimize_levels(coarse, levels, options)?.levels;
     let wall = start.elapsed().as_secs_f64();
     let finest = &reports.last().expect("level 0 is always there").report;
     let per_level: Vec<String> = reports

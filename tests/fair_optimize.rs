@@ -70,7 +70,9 @@ fn fair_optimize_levels_reach_the_raw_start_minimum() {
         ..FairOptions::default()
     };
     let (direct, direct_report) = optimize(&fine, &options).unwrap();
-    let (cascaded, levels) = optimize_levels(&coarse, 1, &options).unwrap();
+    let run = optimize_levels(&coarse, 1, &options).unwrap();
+    let (cascaded, levels) = (run.optimized, run.levels);
+    assert_eq!(run.raw.positions, fine.positions);
     assert_eq!(levels.len(), 2);
     let finest = &levels[1].report;
     eprintln!(

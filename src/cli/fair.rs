@@ -261,22 +261,13 @@ pub(super) fn optimize_with_progress(
     });
     let seconds = start.elapsed().as_secs_f64();
     progress.finish();
-    let (after, reports) = result?;
-    let (prepared, _) = crate::fair::prepare(mesh, reports[0].report.refinements)?;
-    let before = refine_surface(&prepared, levels)?;
-    let finest = FairReport {
-        refinements: 0,
-        ..reports
-            .last()
-            .expect("level 0 is always there")
-            .report
-            .clone()
-    };
-    let change = shape_change(&before, &after, options, &finest)?;
+    let run = result?;
+    let c = run.levels.last().expect("level 0 is always there").report.c;
+    let change = shape_change(&run.raw, &run.optimized, options, c)?;
     Ok(Optimized {
-        before,
-        after,
-        levels: reports,
+        before: run.raw,
+        after: run.optimized,
+        levels: run.levels,
         change,
         seconds,
     })

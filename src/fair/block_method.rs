@@ -28,17 +28,19 @@
 
 use std::time::Instant;
 
-use crate::error::{Error, Result, SolverFailure};
+use crate::error::{Error, Result};
 use crate::fair::blocks::voronoi_blocks;
 use crate::fair::functional::{BlockHessian, Functional, Terms};
-use crate::fair::optimize::{newton, Iteration, NewtonOptions, NewtonReport, StepKind};
+use crate::fair::optimize::{
+    decreases, diagonal_scale, finite_start, moved, newton, Iteration, NewtonOptions, NewtonReport,
+    StepKind,
+};
 use crate::fair::pcg::{pcg, CgStop};
 use crate::fair::representation::Representation;
 use crate::fair::schwarz::Schwarz;
 use crate::fair::sub_representation::SubRepresentation;
 use crate::fair::topology::MeshTopology;
 use crate::linalg::norm;
-use crate::tolerance::ROUND_OFF;
 
 /// Options of the block method.
 #[derive(Debug, Clone, PartialEq)]
@@ -131,36 +133,6 @@ pub struct BlockReport {
     pub preconditioner_seconds: f64,
     pub cg_seconds: f64,
     pub log: Vec<BlockPhase>,
-}
-
-/// `positions` with the free vertices moved by `length` · `delta`.
-fn moved(positions: &[[f64; 3]], free: &[u32], delta: &[f64], length: f64) -> Vec<[f64; 3]> {
-    let mut out = positions.to_vec();
-    for (p, &i) in out.iter_mut().zip(free) {
-        if i != u32::MAX {
-            for (a, x) in p.iter_mut().enumerate() {
-                *x += length * delta[3 * i as usize + a];
-            }
-        }
-    }
-    out
-}
-
-/// Mean absolute diagonal entry of `h`: the scale of ν.
-fn diagonal_scale(h: &BlockHessian) -> f64 {
-    let (sum, count) = h
-        .blocks
-        .iter()
-        .zip(&h.values)
-        .filter(|(b, _)| b.0 == b.1)
-        .fold((0.0, 0usize), |(s, c), (_, v)| {
-            (s + v[0][0].abs() + v[1][1].abs() + v[2][2].abs(), c + 3)
-        });
-    (sum / count.max(1) as f64).max(f64::MIN_POSITIVE)
-}
-
-fn decreases(new: f64, old: f64) -> bool {
-    new.is_finite() && (new < old || (new - old).abs() <= ROUND_OFF * old.abs())
 }
 
 /// The block method's state across its phases.
@@ -426,15 +398,10 @@ pub fn block_newton<R: Representation>(
         .map(|b| b.iter().map(|&v| global.free_index()[v as usize]).collect())
         .collect();
     let mut schwarz = Schwarz::new(global.free_count(), free_blocks)?;
-    let (mut terms, mut g) = global.gradient(positions);
-    if !terms.f.is_finite() || !g.iter().all(|x| x.is_finite()) {
-        return Err(Error::Solver {
-            failure: SolverFailure::Singular,
-            detail: "F or its gradient is not finite at the start: the surface is degenerate \
-                     (vanishing tangents) somewhere"
-                .into(),
-        });
-    }
+    let (mut terms, mut g) = {
+        let (terms, g) = global.gradient(positions);
+        finite_start(terms, g)?
+    };
     let g0 = norm(&g);
     let mut run = Run {
         rep,

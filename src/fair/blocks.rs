@@ -89,24 +89,9 @@ fn farthest_point_seeds(topo: &MeshTopology, free: &[u32], count: usize) -> Vec<
             break; // cannot happen while count ≤ free vertices; kept for safety
         }
         seeds.push(next);
-        relax(topo, &mut dist, next);
+        topo.lower_distances(&mut dist, [next]);
     }
     seeds
-}
-
-/// Lowers `dist` to the distance from `source` where that is shorter (incremental BFS).
-fn relax(topo: &MeshTopology, dist: &mut [u32], source: u32) {
-    dist[source as usize] = 0;
-    let mut queue = VecDeque::from([source]);
-    while let Some(v) = queue.pop_front() {
-        let d = dist[v as usize] + 1;
-        for &w in &topo.neighbours[v as usize] {
-            if dist[w as usize] > d {
-                dist[w as usize] = d;
-                queue.push_back(w);
-            }
-        }
-    }
 }
 
 /// The discrete Voronoi diagram: the seed index of each vertex (`u32::MAX` unreachable),

@@ -17,20 +17,32 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::fair::optimize::Iteration;
-use crate::fair::prepare::{fixed_vertices, prepare};
+use crate::fair::prepare::fixed_vertices;
 use crate::fair::surface_refine::refine_surface;
 use crate::fair::topology::MeshTopology;
-use crate::fair::{optimize_observed, FairOptions, FairReport};
+use crate::fair::{optimize_observed, prepare_with_fixed, FairOptions, FairReport};
 use crate::mesh::PolygonMesh;
 
 /// One level of [`optimize_levels`].
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct LevelReport {
-    /// 0 for the input (after [`prepare`]), k after k surface refinements.
+    /// 0 for the input (after [`prepare`](crate::fair::prepare)), k after k surface refinements.
     pub level: u32,
     /// Wall-clock seconds of this level (refinement included).
     pub seconds: f64,
     pub report: FairReport,
+}
+
+/// What [`optimize_levels`] returns.
+#[derive(Debug, Clone)]
+pub struct CoarseToFine {
+    /// The finest level's raw mesh: the input prepared and surface-refined `levels` times
+    /// (the problem the last level solved; its fixed vertices are the optimized mesh's).
+    pub raw: PolygonMesh,
+    /// The finest level's optimized mesh (the topology and vertex order of `raw`).
+    pub optimized: PolygonMesh,
+    /// One report per level; the last is the finest.
+    pub levels: Vec<LevelReport>,
 }
 
 /// [`optimize_levels`] with a callback after each Newton iteration: level, iteration and
@@ -44,7 +56,7 @@ pub fn optimize_levels_observed(
     levels: u32,
     options: &FairOptions,
     observe: &mut dyn FnMut(u32, &Iteration, f64),
-) -> Result<(PolygonMesh, Vec<LevelReport>)> {
+) -> Result<CoarseToFine> {
     if levels > 0 && !options.fixed.is_empty() {
         return Err(Error::InvalidInput(
             "user-given fixed vertices cannot be carried through surface refinements \
@@ -54,14 +66,7 @@ pub fn optimize_levels_observed(
         ));
     }
     let clock = Instant::now();
-    let (mut raw, refinements) = prepare(mesh, options.max_refinements)?;
-    if refinements > 0 && !options.fixed.is_empty() {
-        return Err(Error::InvalidInput(
-            "user-given fixed vertices refer to the input's ids, but the mesh needs \
-             refinement first; refine it (fair::prepare) and give ids of the refined mesh"
-                .into(),
-        ));
-    }
+    let (mut raw, refinements) = prepare_with_fixed(mesh, options)?;
     let level_options = FairOptions {
         max_refinements: 0,
         ..options.clone()
@@ -87,13 +92,17 @@ pub fn optimize_levels_observed(
             report,
         });
     }
-    Ok((optimized, reports))
+    Ok(CoarseToFine {
+        raw,
+        optimized,
+        levels: reports,
+    })
 }
 
 /// Coarse-to-fine optimization: [`optimize`](crate::fair::optimize) on `mesh`, then
-/// `levels` times: [`refine_surface`] and optimize again from the refined optimum. Returns
-/// the finest optimized mesh (the topology and vertex order of `refine_surface(mesh,
-/// levels)`, fixed vertices bit-identical to it) and one report per level.
+/// `levels` times: [`refine_surface`] and optimize again from the refined optimum. The
+/// finest optimized mesh has the topology and vertex order of the finest raw mesh and its
+/// fixed vertices bit for bit.
 ///
 /// # Errors
 /// As [`optimize_levels_observed`].
@@ -101,7 +110,7 @@ pub fn optimize_levels(
     mesh: &PolygonMesh,
     levels: u32,
     options: &FairOptions,
-) -> Result<(PolygonMesh, Vec<LevelReport>)> {
+) -> Result<CoarseToFine> {
     optimize_levels_observed(mesh, levels, options, &mut |_, _, _| {})
 }
 

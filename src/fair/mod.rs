@@ -47,7 +47,7 @@ pub use cholesky::{Factor, Factorizer};
 pub use curvature_map::curvature_samples;
 pub use disc::sector_disc;
 pub use functional::{BlockHessian, Functional, Terms};
-pub use levels::{optimize_levels, optimize_levels_observed, LevelReport};
+pub use levels::{optimize_levels, optimize_levels_observed, CoarseToFine, LevelReport};
 pub use optimize::{newton, newton_observed, Iteration, NewtonOptions, NewtonReport, StepKind};
 pub use pcg::{multiply, pcg, CgOutcome, CgStop};
 pub use prepare::{fixed_vertices, prepare};
@@ -154,6 +154,20 @@ fn scale_constant(mesh: &PolygonMesh, held: &[bool], elements: usize) -> Result<
     Ok((elements as f64).powi(2) / (d2 * d2))
 }
 
+/// [`prepare`] under `options`, refusing user-given fixed ids when it had to refine (they
+/// name input vertices, which refinement renumbers).
+fn prepare_with_fixed(mesh: &PolygonMesh, options: &FairOptions) -> Result<(PolygonMesh, u32)> {
+    let (prepared, refinements) = prepare(mesh, options.max_refinements)?;
+    if refinements > 0 && !options.fixed.is_empty() {
+        return Err(Error::InvalidInput(
+            "user-given fixed vertices refer to the input's ids, but the mesh needs \
+             refinement first; refine it (fair::prepare) and give ids of the refined mesh"
+                .into(),
+        ));
+    }
+    Ok((prepared, refinements))
+}
+
 /// Optimizes the shape of `mesh`'s Catmull–Clark surface (the whole method of the paper).
 ///
 /// The mesh is first refined by [`prepare`] if needed (at most
@@ -180,14 +194,7 @@ pub fn optimize_observed(
     options: &FairOptions,
     observe: &mut dyn FnMut(&Iteration, f64),
 ) -> Result<(PolygonMesh, FairReport)> {
-    let (prepared, refinements) = prepare(mesh, options.max_refinements)?;
-    if refinements > 0 && !options.fixed.is_empty() {
-        return Err(Error::InvalidInput(
-            "user-given fixed vertices refer to the input's ids, but the mesh needs \
-             refinement first; refine it (fair::prepare) and give ids of the refined mesh"
-                .into(),
-        ));
-    }
+    let (prepared, refinements) = prepare_with_fixed(mesh, options)?;
     let topo = MeshTopology::new(&prepared)?;
     let fixed = fixed_vertices(&topo, options.boundary_rings, &options.fixed)?;
     let special = topo.special_flags();

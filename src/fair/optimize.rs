@@ -116,12 +116,18 @@ impl NewtonReport {
     }
 }
 
-fn moved(positions: &[[f64; 3]], free: &[u32], delta: &[f64]) -> Vec<[f64; 3]> {
+/// `positions` with the free vertices moved by `length` · `delta` (free index `free`).
+pub(crate) fn moved(
+    positions: &[[f64; 3]],
+    free: &[u32],
+    delta: &[f64],
+    length: f64,
+) -> Vec<[f64; 3]> {
     let mut out = positions.to_vec();
-    for (v, &i) in free.iter().enumerate() {
+    for (p, &i) in out.iter_mut().zip(free) {
         if i != u32::MAX {
-            for a in 0..3 {
-                out[v][a] += delta[3 * i as usize + a];
+            for (a, x) in p.iter_mut().enumerate() {
+                *x += length * delta[3 * i as usize + a];
             }
         }
     }
@@ -129,8 +135,21 @@ fn moved(positions: &[[f64; 3]], free: &[u32], delta: &[f64]) -> Vec<[f64; 3]> {
 }
 
 /// Whether `new` is an acceptable decrease from `old`: smaller, or equal to round-off.
-fn decreases(new: f64, old: f64) -> bool {
+pub(crate) fn decreases(new: f64, old: f64) -> bool {
     new.is_finite() && (new < old || (new - old).abs() <= ROUND_OFF * old.abs())
+}
+
+/// F's terms and gradient at the start of a run, refused when not finite.
+pub(crate) fn finite_start(terms: Terms, g: Vec<f64>) -> Result<(Terms, Vec<f64>)> {
+    if !terms.f.is_finite() || !g.iter().all(|x| x.is_finite()) {
+        return Err(Error::Solver {
+            failure: crate::error::SolverFailure::Singular,
+            detail: "F or its gradient is not finite at the start: the surface is degenerate \
+                     (vanishing tangents) somewhere"
+                .into(),
+        });
+    }
+    Ok((terms, g))
 }
 
 /// Minimizes F̃ (eq. 6) over the free vertices of `positions`, in place.
@@ -189,6 +208,7 @@ impl<R: Representation> Stepper<'_, '_, R> {
             positions,
             self.functional.free_index(),
             &factor.newton_step(g),
+            1.0,
         );
         let (t, gt) = self.functional.gradient(&trial);
         (decreases(t.f, f) && norm(&gt).is_finite()).then_some((
@@ -214,6 +234,7 @@ impl<R: Representation> Stepper<'_, '_, R> {
             positions,
             self.functional.free_index(),
             &factor.newton_step(g),
+            1.0,
         );
         let t = self.functional.value(&trial);
         (t.f.is_finite() && t.f < f).then_some(Trial {
@@ -278,10 +299,9 @@ impl<R: Representation> Stepper<'_, '_, R> {
         f: f64,
         scale: f64,
     ) -> Option<Trial> {
-        let mut alpha = 1.0 / scale.max(f64::MIN_POSITIVE);
+        let mut alpha = 1.0 / scale;
         for _ in 0..60 {
-            let delta: Vec<f64> = g.iter().map(|x| -alpha * x).collect();
-            let trial = moved(positions, self.functional.free_index(), &delta);
+            let trial = moved(positions, self.functional.free_index(), g, -alpha);
             let t = self.functional.value(&trial);
             if t.f.is_finite() && t.f < f {
                 return Some(Trial {
@@ -295,15 +315,18 @@ impl<R: Representation> Stepper<'_, '_, R> {
     }
 }
 
-/// Mean absolute diagonal entry of `h`: the scale of ν.
-fn diagonal_scale(h: &BlockHessian, free_count: usize) -> f64 {
-    h.blocks
+/// Mean absolute diagonal entry of `h` (at least the smallest positive number): the scale
+/// of ν.
+pub(crate) fn diagonal_scale(h: &BlockHessian) -> f64 {
+    let (sum, count) = h
+        .blocks
         .iter()
         .zip(&h.values)
         .filter(|(b, _)| b.0 == b.1)
-        .map(|(_, v)| v[0][0].abs() + v[1][1].abs() + v[2][2].abs())
-        .sum::<f64>()
-        / (3 * free_count) as f64
+        .fold((0.0, 0usize), |(s, c), (_, v)| {
+            (s + v[0][0].abs() + v[1][1].abs() + v[2][2].abs(), c + 3)
+        });
+    (sum / count.max(1) as f64).max(f64::MIN_POSITIVE)
 }
 
 /// [`newton`], calling `observe` after each iteration (for progress display).
@@ -316,15 +339,10 @@ pub fn newton_observed<R: Representation>(
     options: &NewtonOptions,
     observe: &mut dyn FnMut(&Iteration),
 ) -> Result<NewtonReport> {
-    let (mut terms, mut g) = functional.gradient(positions);
-    if !terms.f.is_finite() || !g.iter().all(|x| x.is_finite()) {
-        return Err(Error::Solver {
-            failure: crate::error::SolverFailure::Singular,
-            detail: "F or its gradient is not finite at the start: the surface is degenerate \
-                     (vanishing tangents) somewhere"
-                .into(),
-        });
-    }
+    let (mut terms, mut g) = {
+        let (terms, g) = functional.gradient(positions);
+        finite_start(terms, g)?
+    };
     let g0 = norm(&g);
     let mut run = Stepper {
         functional,
@@ -371,10 +389,10 @@ pub fn newton_observed<R: Representation>(
                 }
             }
             if step.is_none() {
-                let scale = diagonal_scale(&h, functional.free_count());
+                let scale = diagonal_scale(&h);
                 // Climbing from a small ν finds the smallest decreasing ν first, i.e. the
                 // longest step (starting at the last ν instead was measured: more Hessians).
-                let start = scale.max(f64::MIN_POSITIVE) * 1e-3;
+                let start = scale * 1e-3;
                 if let Some((nu, trial)) = run.lm_search(&h, &g, positions, terms.f, start) {
                     step = Some((trial, None, StepKind::LevenbergMarquardt, Some(nu)));
                 } else if let Some(trial) = run.steepest_descent(&g, positions, terms.f, scale) {

@@ -3,9 +3,7 @@
 //! (one source of truth for "the mean curvature is more even"), for summaries and reports.
 
 use crate::error::{Error, Result};
-use crate::fair::{
-    fixed_vertices, prepare, FairOptions, FairReport, Functional, MeshTopology, PatchRepresentation,
-};
+use crate::fair::{fixed_vertices, FairOptions, Functional, MeshTopology, PatchRepresentation};
 use crate::mesh::PolygonMesh;
 
 /// S and the area-weighted mean and standard deviation of H, before and after.
@@ -20,20 +18,19 @@ pub struct ShapeChange {
 }
 
 /// S and the statistics of H (area-weighted over the quadrature points where S is
-/// integrated, see [`Functional::mean_curvature_statistics`]) of `input` (prepared as
-/// [`crate::fair::optimize`] prepared it: `report.refinements` levels) and of `optimized`,
-/// the mesh [`crate::fair::optimize`] returned for it with `options`.
+/// integrated, see [`Functional::mean_curvature_statistics`]) of `prepared`, the mesh the
+/// optimizer started from (after preparation), and of `optimized`, what it returned with
+/// `options` and the constant `c` of eq. 4 (the report's).
 ///
 /// # Errors
-/// [`Error::InvalidInput`] if `optimized` does not have the prepared input's vertex count;
-/// errors of [`prepare`] and of the representation.
+/// [`Error::InvalidInput`] if the two meshes do not have the same vertex count; errors of
+/// the representation.
 pub fn shape_change(
-    input: &PolygonMesh,
+    prepared: &PolygonMesh,
     optimized: &PolygonMesh,
     options: &FairOptions,
-    report: &FairReport,
+    c: f64,
 ) -> Result<ShapeChange> {
-    let (prepared, _) = prepare(input, report.refinements)?;
     if prepared.vertex_count() != optimized.vertex_count() {
         return Err(Error::InvalidInput(format!(
             "the optimized mesh has {} vertices, the prepared input {}",
@@ -41,12 +38,12 @@ pub fn shape_change(
             prepared.vertex_count()
         )));
     }
-    let topo = MeshTopology::new(&prepared)?;
+    let topo = MeshTopology::new(prepared)?;
     let fixed = fixed_vertices(&topo, options.boundary_rings, &options.fixed)?;
     let special = topo.special_flags();
     let rep =
-        PatchRepresentation::new(&prepared, &topo.boundary, &special, &options.representation)?;
-    let functional = Functional::new(&rep, &fixed, report.c);
+        PatchRepresentation::new(prepared, &topo.boundary, &special, &options.representation)?;
+    let functional = Functional::new(&rep, &fixed, c);
     let (mean_h_before, std_h_before) = functional.mean_curvature_statistics(&prepared.positions);
     let (mean_h_after, std_h_after) = functional.mean_curvature_statistics(&optimized.positions);
     Ok(ShapeChange {

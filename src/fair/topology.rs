@@ -75,6 +75,14 @@ impl MeshTopology {
     /// unreachable), by breadth-first search.
     pub fn distances(&self, sources: impl IntoIterator<Item = u32>) -> Vec<u32> {
         let mut dist = vec![u32::MAX; self.neighbours.len()];
+        self.lower_distances(&mut dist, sources);
+        dist
+    }
+
+    /// Lowers `dist` to the number of edges to the nearest of `sources` where that is
+    /// shorter (breadth-first search from the new sources only: farthest-point sampling
+    /// adds one seed at a time).
+    pub fn lower_distances(&self, dist: &mut [u32], sources: impl IntoIterator<Item = u32>) {
         let mut queue = VecDeque::new();
         for s in sources {
             if dist[s as usize] != 0 {
@@ -91,7 +99,6 @@ impl MeshTopology {
                 }
             }
         }
-        dist
     }
 
     /// Special vertices (paper §2): internal vertices with valence other than 4.
