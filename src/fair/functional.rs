@@ -19,8 +19,8 @@ use rayon::prelude::*;
 
 use crate::fair::q_density::{q_density, q_density_gradient};
 use crate::fair::representation::{Representation, DERIVATIVES};
-use crate::fair::s_density::{s_density, s_density_gradient};
-use crate::fair::tangent::{cross, dot, Num, Tangent, V};
+use crate::fair::s_density::{mean_curvature, s_density, s_density_gradient};
+use crate::fair::tangent::{cross, dot, Tangent};
 
 const VARS: usize = 3 * DERIVATIVES;
 
@@ -33,16 +33,6 @@ pub struct Terms {
     pub q: f64,
     /// F = S + c Q.
     pub f: f64,
-}
-
-/// Mean curvature H = (E N − 2 F M + G L) / (2 (EG − F²)) from first and second derivatives
-/// (the normal left unnormalized: L, M, N carry a factor W = √(EG − F²)).
-fn mean_curvature<T: Num>(pu: &V<T>, pv: &V<T>, puu: &V<T>, puv: &V<T>, pvv: &V<T>) -> T {
-    let (e, f, g) = (dot(pu, pu), dot(pu, pv), dot(pv, pv));
-    let n = cross(pu, pv);
-    let w2 = e * g - f * f;
-    let (l, m, nn) = (dot(puu, &n), dot(puv, &n), dot(pvv, &n));
-    (e * nn - (f * m).scale(2.0) + g * l) / (w2 * w2.sqrt()).scale(2.0)
 }
 
 /// Number of variables of Q's density: p_u, p_v, ∂Δp/∂u, ∂Δp/∂v.
@@ -376,7 +366,7 @@ impl<'a, R: Representation> Functional<'a, R> {
                 continue;
             }
             let d = unpack(&point_derivatives(self.rep, k, positions));
-            let h = mean_curvature(&d[0], &d[1], &d[2], &d[3], &d[4]);
+            let h = mean_curvature(&d);
             let w = p.weight_s * {
                 let n = cross(&d[0], &d[1]);
                 dot(&n, &n).sqrt()
@@ -626,7 +616,7 @@ mod tests {
     fn sphere_has_constant_mean_curvature_and_no_s_density() {
         let r = 2.0;
         let d = point(0.3, -0.4, r);
-        let h = mean_curvature(&d[0], &d[1], &d[2], &d[3], &d[4]);
+        let h = mean_curvature(&d);
         assert_near!(h.abs(), 1.0 / r, ROUND_OFF);
         let (s, _) = densities(&d);
         assert_near!(s, 0.0, ROUND_OFF);

@@ -59,6 +59,14 @@ fn point<T: Num>(pu: &V<T>, pv: &V<T>, puu: &V<T>, puv: &V<T>, pvv: &V<T>) -> Po
     }
 }
 
+/// Mean curvature H = (E N − 2 F M + G L) / (2 (EG − F²)) at a point with derivatives `d`
+/// (first and second used; the normal left unnormalized: L, M, N carry a factor W).
+#[inline(always)]
+pub fn mean_curvature<T: Num>(d: &[V<T>; 9]) -> T {
+    let p = point(&d[0], &d[1], &d[2], &d[3], &d[4]);
+    p.num / p.w3.scale(2.0)
+}
+
 /// The tangents of (p_u, p_v, p_uu, p_uv, p_vv) along u or v.
 type Along<'a, T> = [&'a V<T>; 5];
 
