@@ -165,6 +165,10 @@ impl<R: Representation> Run<'_, '_, R> {
         let n = self.rep.vertex_count();
         let total_points = self.rep.points().len().max(1) as f64;
         let (mut effective, mut skipped) = (0, 0);
+        // Each block's sub-representation is rebuilt per sweep rather than kept: together
+        // the blocks copy every quadrature point about `coverage` times, too much memory
+        // for the meshes this method is for, while the copy costs far less than the
+        // block's Hessians.
         for block in &self.blocks {
             let mut in_block = vec![false; n];
             for &v in block {

@@ -61,8 +61,9 @@ pub enum QDomain {
     /// over elements, each in its own parameters). Why: in the face's parameters ∇Δp of
     /// the Catmull–Clark limit grows without bound toward an extraordinary vertex and its
     /// square is not integrable there, so Q would grow with the isolation level (×5.3 per
-    /// level on the raw 1007-vertex junction) and make the Hessian ever stiffer; in the
-    /// sub-patch's own parameters a patch of size h weighs h⁴ as much, and Q converges.
+    /// level on the raw 359-vertex junction, `tests/fair_q_domain.rs`) and make the
+    /// Hessian ever stiffer; in the sub-patch's own parameters a patch of size h weighs h⁴
+    /// as much, and Q converges.
     /// S does not depend on the parameterization and is the same either way.
     #[default]
     Patch,

@@ -44,3 +44,24 @@ pub fn peer_python() -> PathBuf {
     );
     venv
 }
+
+/// Asserts what `fair` promises about its output: the input's faces and vertex order, and
+/// every vertex fewer than 3 edges from the boundary (paper §4) bit-identical to the input.
+/// Returns the fixed flags.
+pub fn assert_faces_and_boundary_rings_kept(
+    before: &surfkit::mesh::PolygonMesh,
+    after: &surfkit::mesh::PolygonMesh,
+) -> Vec<bool> {
+    use surfkit::fair::{fixed_vertices, MeshTopology};
+    assert_eq!(after.face_offsets, before.face_offsets);
+    assert_eq!(after.face_indices, before.face_indices);
+    let fixed = fixed_vertices(&MeshTopology::new(before).unwrap(), 3, &[]).unwrap();
+    for (v, _) in fixed.iter().enumerate().filter(|(_, &held)| held) {
+        assert_eq!(
+            after.positions[v].map(f64::to_bits),
+            before.positions[v].map(f64::to_bits),
+            "fixed vertex {v} moved"
+        );
+    }
+    fixed
+}
