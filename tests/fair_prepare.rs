@@ -1,32 +1,17 @@
 //! Preparation (Kiciak §2, §4): refinement until the paper's conditions hold with χ
 //! unchanged, fixed vertices, and the errors for closed meshes with nothing fixed.
 
+mod common;
+
 use surfkit::error::Error;
 use surfkit::fair::{
     condition_violation, fixed_vertices, optimize, prepare, FairOptions, MeshTopology,
 };
 use surfkit::mesh::PolygonMesh;
 
-fn cube() -> PolygonMesh {
-    let p: Vec<[f64; 3]> = (0..8)
-        .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
-        .collect();
-    PolygonMesh::from_polygons(
-        p,
-        &[
-            [0u32, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ],
-    )
-}
-
 #[test]
 fn fair_prepare_cube_needs_one_level_and_keeps_chi() {
-    let mesh = cube();
+    let mesh = common::unit_cube();
     let topo = MeshTopology::new(&mesh).unwrap();
     assert_eq!(topo.euler_characteristic(), 2);
     assert!(condition_violation(&mesh, &topo).is_some());
@@ -63,19 +48,22 @@ fn fair_prepare_triangles_become_quads() {
 
 #[test]
 fn fair_prepare_too_few_levels_is_a_topology_error() {
-    assert!(matches!(prepare(&cube(), 0), Err(Error::Topology(_))));
+    assert!(matches!(
+        prepare(&common::unit_cube(), 0),
+        Err(Error::Topology(_))
+    ));
 }
 
 #[test]
 fn fair_closed_mesh_with_nothing_fixed_is_an_error() {
-    let (refined, _) = prepare(&cube(), 2).unwrap();
+    let (refined, _) = prepare(&common::unit_cube(), 2).unwrap();
     let topo = MeshTopology::new(&refined).unwrap();
     match fixed_vertices(&topo, 3, &[]) {
         Err(Error::InvalidInput(m)) => assert!(m.contains("closed"), "{m}"),
         other => panic!("expected an InvalidInput error, got {other:?}"),
     }
     assert!(matches!(
-        optimize(&cube(), &FairOptions::default()),
+        optimize(&common::unit_cube(), &FairOptions::default()),
         Err(Error::InvalidInput(_))
     ));
     // With a vertex given, the closed mesh has something to hold.

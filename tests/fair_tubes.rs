@@ -3,6 +3,8 @@
 //! EAT statistics; the refined surface compared with the unrefined one by OpenSubdiv's
 //! limit evaluation.
 
+mod common;
+
 use std::collections::{HashMap, HashSet};
 
 use surfkit::fair::{
@@ -231,19 +233,7 @@ fn fair_tubes_paper_table_1_sizes() {
 #[test]
 fn fair_tubes_closed_mesh_and_thin_mesh() {
     // A closed mesh has no ring to drop: refine_surface is Catmull–Clark.
-    let cube = PolygonMesh::from_polygons(
-        (0..8)
-            .map(|i| [(i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2) as f64])
-            .collect(),
-        &[
-            [0u32, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ],
-    );
+    let cube = common::unit_cube();
     let refined = refine_surface(&cube, 1).unwrap();
     assert_eq!((refined.vertex_count(), refined.face_count()), (26, 24));
     // A single quad is all boundary: refinement leaves nothing, an error not an empty mesh.

@@ -65,3 +65,21 @@ pub fn assert_faces_and_boundary_rings_kept(
     }
     fixed
 }
+
+/// The unit cube as six quads, outward oriented: a closed quad mesh of genus 0.
+pub fn unit_cube() -> surfkit::mesh::PolygonMesh {
+    let p: Vec<[f64; 3]> = (0..8)
+        .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
+        .collect();
+    surfkit::mesh::PolygonMesh::from_polygons(
+        p,
+        &[
+            [0u32, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ],
+    )
+}
