@@ -188,6 +188,27 @@ impl<R: Representation> Stepper<'_, '_, R> {
         factored.ok()
     }
 
+    /// [`Self::newton_trial`] with `factor`, and the factor itself if its step was
+    /// effective (cut ‖g‖ by `reuse_factor`, §5) and may serve the next iteration; else
+    /// its storage goes back to the factorizer.
+    fn newton_kept(
+        &mut self,
+        factor: Factor,
+        g: &[f64],
+        positions: &[[f64; 3]],
+        f: f64,
+        options: &NewtonOptions,
+    ) -> (Option<(Trial, Vec<f64>)>, Option<Factor>) {
+        let trial = self.newton_trial(&factor, g, positions, f);
+        let effective =
+            matches!(&trial, Some((_, gt)) if norm(gt) * options.reuse_factor <= norm(g));
+        if effective {
+            return (trial, Some(factor));
+        }
+        self.factorizer.recycle(factor);
+        (trial, None)
+    }
+
     fn hessian(&mut self, positions: &[[f64; 3]]) -> (Terms, Vec<f64>, BlockHessian) {
         let clock = Instant::now();
         let out = self.functional.hessian(positions);
@@ -230,12 +251,9 @@ impl<R: Representation> Stepper<'_, '_, R> {
         f: f64,
     ) -> Option<Trial> {
         let factor = self.factor(h, nu)?;
-        let trial = moved(
-            positions,
-            self.functional.free_index(),
-            &factor.newton_step(g),
-            1.0,
-        );
+        let step = factor.newton_step(g);
+        self.factorizer.recycle(factor);
+        let trial = moved(positions, self.functional.free_index(), &step, 1.0);
         let t = self.functional.value(&trial);
         (t.f.is_finite() && t.f < f).then_some(Trial {
             terms: t,
@@ -366,10 +384,9 @@ pub fn newton_observed<R: Representation>(
         let mut step = None;
         // 1. Newton with the kept factor.
         if let Some(factor) = reusable.take() {
-            if let Some((trial, gt)) = run.newton_trial(&factor, &g, positions, terms.f) {
-                if norm(&gt) * options.reuse_factor <= gnorm {
-                    reusable = Some(factor);
-                }
+            let trial;
+            (trial, reusable) = run.newton_kept(factor, &g, positions, terms.f, options);
+            if let Some((trial, gt)) = trial {
                 step = Some((trial, Some(gt), StepKind::ReusedNewton, None));
             }
         }
@@ -379,12 +396,10 @@ pub fn newton_observed<R: Representation>(
             let (t0, g0h, h) = run.hessian(positions);
             terms = t0;
             g = g0h;
-            let gnorm = norm(&g);
             if let Some(factor) = run.factor(&h, 0.0) {
-                if let Some((trial, gt)) = run.newton_trial(&factor, &g, positions, terms.f) {
-                    if norm(&gt) * options.reuse_factor <= gnorm {
-                        reusable = Some(factor);
-                    }
+                let trial;
+                (trial, reusable) = run.newton_kept(factor, &g, positions, terms.f, options);
+                if let Some((trial, gt)) = trial {
                     step = Some((trial, Some(gt), StepKind::Newton, None));
                 }
             }
