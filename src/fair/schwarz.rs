@@ -96,6 +96,9 @@ impl Schwarz {
                     sub.values.push(*v);
                 }
             }
+            if let Some(old) = part.factor.take() {
+                part.factorizer.recycle(old);
+            }
             part.factor = Some(part.factorizer.factor(&sub, nu)?);
             Ok(())
         })
