@@ -8,8 +8,9 @@ use std::time::Instant;
 use crate::error::{Error, Result};
 use crate::fair::cholesky::{Factor, Factorizer};
 use crate::fair::functional::{BlockHessian, Functional, Terms};
+use crate::fair::pcg::multiply;
 use crate::fair::representation::Representation;
-use crate::linalg::norm;
+use crate::linalg::{dot, norm};
 use crate::tolerance::ROUND_OFF;
 
 /// What an iteration did.
@@ -241,7 +242,8 @@ impl<R: Representation> Stepper<'_, '_, R> {
         ))
     }
 
-    /// F̃(x + δ_ν) with (H + ν I) δ_ν = −g (eq. 8–9), if it is below `f`.
+    /// F̃(x + δ_ν) with (H + ν I) δ_ν = −g (eq. 8–9), if it is below `f`, with the ratio
+    /// of the decrease to the one the quadratic model of F predicts.
     fn lm_trial(
         &mut self,
         h: &BlockHessian,
@@ -249,21 +251,38 @@ impl<R: Representation> Stepper<'_, '_, R> {
         g: &[f64],
         positions: &[[f64; 3]],
         f: f64,
-    ) -> Option<Trial> {
+    ) -> Option<(Trial, f64)> {
         let factor = self.factor(h, nu)?;
         let step = factor.newton_step(g);
         self.factorizer.recycle(factor);
         let trial = moved(positions, self.functional.free_index(), &step, 1.0);
         let t = self.functional.value(&trial);
-        (t.f.is_finite() && t.f < f).then_some(Trial {
-            terms: t,
-            positions: trial,
-        })
+        if !(t.f.is_finite() && t.f < f) {
+            return None;
+        }
+        let predicted = -(dot(g, &step) + 0.5 * dot(&step, &multiply(h, &step)));
+        let ratio = if predicted > 0.0 {
+            (f - t.f) / predicted
+        } else {
+            f64::INFINITY
+        };
+        Some((
+            Trial {
+                terms: t,
+                positions: trial,
+            },
+            ratio,
+        ))
     }
 
     /// Minimizes f(ν) = F̃(x + δ_ν) (eq. 8–9) over ν on a geometric grid (factors of 4):
-    /// from `start`, grow ν until F decreases, then follow the direction in which F keeps
-    /// decreasing. `None` when no ν decreases F.
+    /// from `start`, grow ν until F decreases; then follow the trajectory while F keeps
+    /// decreasing, in the direction the quadratic model points to: towards longer steps
+    /// (smaller ν) when the decrease matched the model's prediction (ratio ≥ 3/4) and no
+    /// smaller ν has failed already, towards shorter ones when it fell far short (ratio
+    /// < 1/4), nowhere in between. (Trying both directions every time cost 124
+    /// factorizations at 14399 vertices instead of 100, with the same 29 Hessians.)
+    /// `None` when no ν decreases F.
     fn lm_search(
         &mut self,
         h: &BlockHessian,
@@ -281,28 +300,23 @@ impl<R: Representation> Stepper<'_, '_, R> {
             }
             nu *= 4.0;
         }
-        let (mut best_nu, mut best_trial) = best?;
-        // Below the first decreasing ν every grid value has been tried and failed: only
-        // the start itself may still improve downwards.
-        let directions: &[f64] = if best_nu == start {
-            &[0.25, 4.0]
+        let (mut best_nu, (mut best_trial, ratio)) = best?;
+        let direction = if best_nu == start && ratio >= 0.75 {
+            Some(0.25)
+        } else if ratio < 0.25 {
+            Some(4.0)
         } else {
-            &[4.0]
+            None
         };
-        for &factor in directions {
-            let mut moved_any = false;
+        if let Some(factor) = direction {
             for _ in 0..30 {
                 match self.lm_trial(h, best_nu * factor, g, positions, f) {
-                    Some(t) if t.terms.f < best_trial.terms.f => {
+                    Some((t, _)) if t.terms.f < best_trial.terms.f => {
                         best_nu *= factor;
                         best_trial = t;
-                        moved_any = true;
                     }
                     _ => break,
                 }
-            }
-            if moved_any {
-                break;
             }
         }
         Some((best_nu, best_trial))
