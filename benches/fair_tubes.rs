@@ -161,49 +161,49 @@ fn raw_start(
         })
         .collect::<surfkit::Result<_>>()?;
     println!(
-            "{:>6} {:>6} {:>5} {:>5} {:>12.5e} {:>12.5e} {:>7.2} {:>10.4e} {:>10.4e} {:>9.2e} {:>8.1} {:>8}{}",
-            nv,
-            report.free_vertices,
-            report.newton.iterations.len()
-                + report.warm_start.as_ref().map_or(0, |w| w.iterations.len()),
-            report.newton.hessian_evaluations
-                + report.warm_start.as_ref().map_or(0, |w| w.hessian_evaluations),
-            s0,
-            s1,
-            s0 / s1,
-            sd0,
-            sd1,
-            report.final_gradient_norm / report.initial_gradient_norm,
-            wall,
-            reference.map_or("-".into(), |r| format!("{r:.1}")),
-            match (paper, bstools) {
-                (Some(p), _) => format!("  (Table 1, one core; ratio {:.2})", p / wall),
-                (None, Some(b)) if nv == 4895 => format!(
-                    "  (BSTools here: not converged after {b:.0} s; ratio > {:.2})",
-                    b / wall
-                ),
-                (None, Some(b)) => format!("  (BSTools here, one core; ratio {:.2})", b / wall),
-                _ => String::new(),
-            }
-        );
+        "{:>6} {:>6} {:>5} {:>5} {:>12.5e} {:>12.5e} {:>7.2} {:>10.4e} {:>10.4e} {:>9.2e} {:>8.1} {:>8}{}",
+        nv,
+        report.free_vertices,
+        report.newton.iterations.len()
+            + report.warm_start.as_ref().map_or(0, |w| w.iterations.len()),
+        report.newton.hessian_evaluations
+            + report.warm_start.as_ref().map_or(0, |w| w.hessian_evaluations),
+        s0,
+        s1,
+        s0 / s1,
+        sd0,
+        sd1,
+        report.final_gradient_norm / report.initial_gradient_norm,
+        wall,
+        reference.map_or("-".into(), |r| format!("{r:.1}")),
+        match (paper, bstools) {
+            (Some(p), _) => format!("  (Table 1, one core; ratio {:.2})", p / wall),
+            (None, Some(b)) if nv == 4895 => format!(
+                "  (BSTools here: not converged after {b:.0} s; ratio > {:.2})",
+                b / wall
+            ),
+            (None, Some(b)) => format!("  (BSTools here, one core; ratio {:.2})", b / wall),
+            _ => String::new(),
+        }
+    );
     println!(
-            "        {}; converged {} stalled {} stuck {}; CPU {cpu:.1} s on {} threads, {:.1} s in {} Hessians, \
-             {:.1} s in {} factorizations; {}",
-            if levels > 0 {
-                format!("{n} tubes refined {levels}x")
-            } else {
-                format!("{n} tubes raw")
-            },
-            report.newton.converged,
-            report.newton.stalled,
-            report.newton.stuck,
-            rayon::current_num_threads(),
-            report.newton.hessian_seconds,
-            report.newton.hessian_evaluations,
-            report.newton.factorization_seconds,
-            report.newton.factorizations,
-            isolation.join("; ")
-        );
+        "        {}; converged {} stalled {} stuck {}; CPU {cpu:.1} s on {} threads, {:.1} s in {} Hessians, \
+         {:.1} s in {} factorizations; {}",
+        if levels > 0 {
+            format!("{n} tubes refined {levels}x")
+        } else {
+            format!("{n} tubes raw")
+        },
+        report.newton.converged,
+        report.newton.stalled,
+        report.newton.stuck,
+        rayon::current_num_threads(),
+        report.newton.hessian_seconds,
+        report.newton.hessian_evaluations,
+        report.newton.factorization_seconds,
+        report.newton.factorizations,
+        isolation.join("; ")
+    );
     Ok(())
 }
 

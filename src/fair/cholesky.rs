@@ -59,10 +59,6 @@ impl Factorizer {
     /// [`Error::Solver`] with [`SolverFailure::NotPositiveDefinite`] when a pivot is not
     /// positive; [`SolverFailure::Singular`] when faer fails otherwise (out of memory).
     pub fn factor(&mut self, h: &BlockHessian, nu: f64) -> Result<Factor> {
-        let failed = |what: &str, e: &dyn std::fmt::Debug| Error::Solver {
-            failure: SolverFailure::Singular,
-            detail: format!("{what}: {e:?}"),
-        };
         let matrix = self.assemble(h, nu)?;
         let symbolic = match &self.symbolic {
             Some(s) => Arc::clone(s),
@@ -80,14 +76,13 @@ impl Factorizer {
             }
         };
         let par = faer::get_global_parallelism();
-        let scratch = match self.scratch.take() {
+        let mut scratch = match self.scratch.take() {
             Some(buffer) => buffer,
             None => MemBuffer::try_new(
                 symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
             )
             .map_err(|e| failed("Cholesky workspace", &e))?,
         };
-        let mut scratch = scratch;
         let mut values = match self.spare.take() {
             Some(v) => v,
             None => {
@@ -132,10 +127,6 @@ impl Factorizer {
 
     /// The upper triangle of `H + ν I` in compressed columns.
     fn assemble(&mut self, h: &BlockHessian, nu: f64) -> Result<SparseColMat<usize, f64>> {
-        let failed = |e: &dyn std::fmt::Debug| Error::Solver {
-            failure: SolverFailure::Singular,
-            detail: format!("assembling the Hessian: {e:?}"),
-        };
         let mut values = Vec::with_capacity(9 * h.blocks.len() + self.n);
         for (&(i, j), v) in h.blocks.iter().zip(&h.values) {
             for (a, row) in v.iter().enumerate() {
@@ -164,11 +155,20 @@ impl Factorizer {
             indices.extend((0..self.n).map(|k| Pair::new(k, k)));
             self.pattern = Some(
                 SymbolicSparseColMat::try_new_from_indices(self.n, self.n, &indices)
-                    .map_err(|e| failed(&e))?,
+                    .map_err(|e| failed("assembling the Hessian", &e))?,
             );
         }
         let (pattern, order) = self.pattern.as_ref().expect("just set");
-        SparseColMat::new_from_argsort(pattern.clone(), order, &values).map_err(|e| failed(&e))
+        SparseColMat::new_from_argsort(pattern.clone(), order, &values)
+            .map_err(|e| failed("assembling the Hessian", &e))
+    }
+}
+
+/// A failure of faer other than a non-positive pivot (out of memory, a malformed pattern).
+fn failed(what: &str, e: &dyn std::fmt::Debug) -> Error {
+    Error::Solver {
+        failure: SolverFailure::Singular,
+        detail: format!("{what}: {e:?}"),
     }
 }
 

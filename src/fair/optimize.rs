@@ -8,7 +8,6 @@ use std::time::Instant;
 use crate::error::{Error, Result};
 use crate::fair::cholesky::{Factor, Factorizer};
 use crate::fair::functional::{BlockHessian, Functional, Terms};
-use crate::fair::pcg::multiply;
 use crate::fair::representation::Representation;
 use crate::linalg::{dot, norm};
 use crate::tolerance::ROUND_OFF;
@@ -260,7 +259,9 @@ impl<R: Representation> Stepper<'_, '_, R> {
         if !(t.f.is_finite() && t.f < f) {
             return None;
         }
-        let predicted = -(dot(g, &step) + 0.5 * dot(&step, &multiply(h, &step)));
+        // −(gᵀδ + ½δᵀHδ), with δᵀHδ = −gᵀδ − ν‖δ‖² from (H + νI)δ = −g: no product
+        // with H needed.
+        let predicted = 0.5 * (nu * dot(&step, &step) - dot(g, &step));
         let ratio = if predicted > 0.0 {
             (f - t.f) / predicted
         } else {
@@ -275,12 +276,12 @@ impl<R: Representation> Stepper<'_, '_, R> {
         ))
     }
 
-    /// Minimizes f(ν) = F̃(x + δ_ν) (eq. 8–9) over ν on a geometric grid (factors of 4):
-    /// from `start`, grow ν until F decreases; then follow the trajectory while F keeps
-    /// decreasing, in the direction the quadratic model points to: towards longer steps
-    /// (smaller ν) when the decrease matched the model's prediction (ratio ≥ 3/4) and no
-    /// smaller ν has failed already, towards shorter ones when it fell far short (ratio
-    /// < 1/4), nowhere in between. (Trying both directions every time cost 124
+    /// Searches for the ν minimizing f(ν) = F̃(x + δ_ν) (eq. 8–9) on a geometric grid
+    /// (factors of 4): from `start`, grow ν until F decreases; then follow the trajectory
+    /// while F keeps decreasing, in the direction the quadratic model points to: towards
+    /// longer steps (smaller ν) when the decrease matched the model's prediction (ratio
+    /// ≥ 3/4) and no smaller ν has failed already, towards shorter ones when it fell far
+    /// short (ratio < 1/4), nowhere in between. (Trying both directions every time cost 124
     /// factorizations at 14399 vertices instead of 100, with the same 29 Hessians.)
     /// `None` when no ν decreases F.
     fn lm_search(
