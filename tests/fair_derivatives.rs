@@ -3,7 +3,7 @@
 
 use surfkit::assert_near;
 use surfkit::fair::{
-    fixed_vertices, sector_disc, Functional, MeshTopology, PatchRepresentation,
+    fixed_vertices, sector_disc, Functional, HessianKind, MeshTopology, PatchRepresentation,
     RepresentationOptions,
 };
 use surfkit::mesh::PolygonMesh;
@@ -153,4 +153,77 @@ fn fair_evaluations_are_bit_identical_on_one_and_two_threads() {
     assert_eq!(one.4, two.4);
     // The gradient from `gradient` and from `hessian` are the same sums.
     assert_eq!(one.1 .1, one.3);
+}
+
+/// Dense symmetric matrix of the upper-triangle blocks of `h` (n × n, row-major).
+fn dense(h: &surfkit::fair::BlockHessian, n: usize) -> Vec<f64> {
+    let mut out = vec![0.0; n * n];
+    for (&(i, j), b) in h.blocks.iter().zip(&h.values) {
+        for (a, row) in b.iter().enumerate() {
+            for (c, &x) in row.iter().enumerate() {
+                let (r, s) = (3 * i as usize + a, 3 * j as usize + c);
+                out[r * n + s] = x;
+                out[s * n + r] = x;
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn gauss_newton_part_equals_the_hessian_of_a_flat_surface() {
+    // H = 2 Σ JᵀJ + 2 Σ r ∇²r: on a plane ∇H = 0, S's residuals vanish, and with c = 0 the
+    // assembled Gauss–Newton matrix must be the exact Hessian (checked against finite
+    // differences above). Jitter within the plane keeps it a plane.
+    let mut flat = sector_disc(5, 4).unwrap();
+    for (v, p) in flat.positions.iter_mut().enumerate() {
+        p[0] += 0.1 * jitter(3 * v);
+        p[1] += 0.1 * jitter(3 * v + 1);
+        p[2] = 0.0;
+    }
+    let (rep, fixed) = setup(&flat);
+    let functional = Functional::new(&rep, &fixed, 0.0);
+    let n = 3 * functional.free_count();
+    let (terms, g, exact) = functional.hessian(&flat.positions);
+    let alone = functional.hessians(&flat.positions, HessianKind::GaussNewton);
+    assert_eq!((terms, &g), (alone.terms, &alone.gradient));
+    assert!(alone.exact.is_none());
+    let (exact, gauss_newton) = (dense(&exact, n), dense(&alone.gauss_newton.unwrap(), n));
+    let scale = exact.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    assert!(scale > 0.0);
+    for (a, b) in gauss_newton.iter().zip(&exact) {
+        assert_near!(a / scale, b / scale, 1e-12);
+    }
+    // On a curved surface they differ, and the Gauss–Newton matrix stays positive
+    // semidefinite: vᵀ H v ≥ 0 for every v tried.
+    let curved = perturbed(sector_disc(5, 4).unwrap(), 0.1);
+    let functional = Functional::new(&rep, &fixed, 0.7);
+    let (terms, g, exact) = functional.hessian(&curved.positions);
+    let alone = functional.hessians(&curved.positions, HessianKind::GaussNewton);
+    // One pass for both gives the same matrices as two.
+    let both = functional.hessians(&curved.positions, HessianKind::Both);
+    assert_eq!((terms, &g), (both.terms, &both.gradient));
+    assert_eq!(exact.values, both.exact.unwrap().values);
+    let (exact, gauss_newton) = (dense(&exact, n), dense(&alone.gauss_newton.unwrap(), n));
+    let gn_scale = gauss_newton.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    for (a, b) in dense(&both.gauss_newton.unwrap(), n)
+        .iter()
+        .zip(&gauss_newton)
+    {
+        assert_near!(a / gn_scale, b / gn_scale, 1e-14);
+    }
+    let quadratic = |m: &[f64], v: &[f64]| -> f64 {
+        (0..n)
+            .map(|r| v[r] * (0..n).map(|s| m[r * n + s] * v[s]).sum::<f64>())
+            .sum()
+    };
+    for trial in 0..200 {
+        let v: Vec<f64> = (0..n).map(|k| jitter(1000 + trial * n + k)).collect();
+        assert!(quadratic(&gauss_newton, &v) >= 0.0);
+    }
+    let differ = exact
+        .iter()
+        .zip(&gauss_newton)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(differ > 1e-3 * exact.iter().fold(0.0f64, |m, x| m.max(x.abs())));
 }

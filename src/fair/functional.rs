@@ -9,6 +9,10 @@
 //! The quadrature points of one patch share their control vertices: their contributions
 //! are summed in a dense patch matrix before they are scattered into the sparse Hessian,
 //! and patches are spread over the cores (rayon).
+//!
+//! Both densities are sums of squares of residuals (S: √W L⁻¹∇Hᵀ, Q: P ∇Δp); the
+//! Gauss–Newton part 2 Σ JᵀJ of the Hessian, positive semidefinite everywhere, comes from
+//! the residuals' tangents, alone or with the exact Hessian in the same pass.
 
 use std::collections::HashMap;
 use std::ops::Range;
@@ -17,9 +21,11 @@ use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatRef, Par};
 use rayon::prelude::*;
 
-use crate::fair::q_density::{q_density, q_density_gradient};
-use crate::fair::representation::{Representation, DERIVATIVES};
-use crate::fair::s_density::{mean_curvature, s_density, s_density_gradient};
+use crate::fair::q_density::{q_density, q_density_gradient, q_residual};
+use crate::fair::representation::{QuadraturePoint, Representation, DERIVATIVES};
+use crate::fair::s_density::{
+    mean_curvature, s_density, s_density_gradient, s_density_gradient_residual, s_residual,
+};
 use crate::fair::tangent::{cross, dot, Tangent};
 
 const VARS: usize = 3 * DERIVATIVES;
@@ -82,18 +88,125 @@ struct PointHessian<'a> {
     ws: f64,
     wq: f64,
     h: &'a mut PointMatrix,
+    rows: Option<&'a mut ResidualRows>,
 }
 
 impl pulp::WithSimd for PointHessian<'_> {
     type Output = (f64, f64, [f64; VARS]);
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
-        point_hessian(self.x, self.ws, self.wq, self.h)
+        point_hessian(self.x, self.ws, self.wq, self.h, self.rows)
     }
 }
 
+/// [`point_gauss_newton`] compiled as [`PointHessian`].
+struct PointGaussNewton<'a> {
+    x: &'a [f64; VARS],
+    ws: f64,
+    wq: f64,
+    rows: &'a mut ResidualRows,
+}
+
+impl pulp::WithSimd for PointGaussNewton<'_> {
+    type Output = (f64, f64, [f64; VARS]);
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
+        point_gauss_newton(self.x, self.ws, self.wq, self.rows)
+    }
+}
+
+/// Which second derivatives [`Functional::hessians`] assembles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HessianKind {
+    /// F's exact Hessian (eq. 7).
+    Exact,
+    /// The Gauss–Newton part 2 Σ JᵀJ of the densities written as sums of squares
+    /// ([`s_residual`], [`q_residual`]): positive semidefinite everywhere.
+    GaussNewton,
+    /// Both, from the same tangents (a fifth more time than the exact Hessian alone).
+    Both,
+}
+
+/// Rows of the Gauss–Newton factor of one point: its Hessian part is `Σ rowᵀ row`.
+const RESIDUALS: usize = 8;
+type ResidualRows = [[f64; VARS]; RESIDUALS];
+
+/// Q's 12 variables as sums of the 27 derivative coordinates ([`Q_MAP`] per coordinate).
+const Q_COORDINATES: [&[usize]; Q_VARS] = [
+    &[0],
+    &[1],
+    &[2],
+    &[3],
+    &[4],
+    &[5],
+    &[15, 21],
+    &[16, 22],
+    &[17, 23],
+    &[18, 24],
+    &[19, 25],
+    &[20, 26],
+];
+
+/// The derivative coordinates 0..27, for [`set_residual_rows`] over all of them.
+const IDENTITY: [usize; VARS] = {
+    let mut a = [0; VARS];
+    let mut i = 0;
+    while i < VARS {
+        a[i] = i;
+        i += 1;
+    }
+    a
+};
+
+/// `rows[k]` = √(2w) ∇r_k in the 27 derivative coordinates, for residuals `r` over `N`
+/// variables, variable i being the sum of the coordinates `coordinates(i)`.
+#[inline(always)]
+fn set_residual_rows<const N: usize>(
+    rows: &mut [[f64; VARS]],
+    r: &[Tangent<N>],
+    w: f64,
+    coordinates: impl Fn(usize) -> &'static [usize],
+) {
+    let scale = (2.0 * w).sqrt();
+    for (row, r) in rows.iter_mut().zip(r) {
+        for (i, e) in r.eps.iter().enumerate() {
+            for &c in coordinates(i) {
+                row[c] = scale * e;
+            }
+        }
+    }
+}
+
+/// Densities and gradient as [`point_hessian`], and in `rows` the Jacobians of the
+/// residuals ([`s_residual`], [`q_residual`]) scaled by √(2w), so that `Σ rowᵀ row` is the
+/// Gauss–Newton part of the point's Hessian ([`HessianKind::GaussNewton`]).
+#[inline(always)]
+fn point_gauss_newton(
+    x: &[f64; VARS],
+    ws: f64,
+    wq: f64,
+    rows: &mut ResidualRows,
+) -> (f64, f64, [f64; VARS]) {
+    *rows = [[0.0; VARS]; RESIDUALS];
+    let d = unpack(x);
+    if ws != 0.0 {
+        let dt: [[Tangent<VARS>; 3]; DERIVATIVES] = std::array::from_fn(|k| {
+            std::array::from_fn(|a| Tangent::variable(x[3 * k + a], 3 * k + a))
+        });
+        set_residual_rows(&mut rows[..2], &s_residual(&dt), ws, |i| {
+            std::slice::from_ref(&IDENTITY[i])
+        });
+    }
+    let qx = q_vars(&d);
+    let qt: [[Tangent<Q_VARS>; 3]; 4] =
+        std::array::from_fn(|i| std::array::from_fn(|a| Tangent::variable(qx[i][a], 3 * i + a)));
+    set_residual_rows(&mut rows[2..], &q_residual(&qt), wq, |i| Q_COORDINATES[i]);
+    point_gradient(x, ws, wq)
+}
+
 /// Densities, gradient and Hessian of `ws · S-density + wq · Q-density` with respect to the
-/// 27 derivative coordinates (`h` is overwritten). Q is differentiated in its own 12
+/// 27 derivative coordinates (`h` is overwritten), and when asked the Gauss–Newton rows of
+/// [`point_gauss_newton`] from the same tangents. Q is differentiated in its own 12
 /// variables and mapped. Forward-over-reverse Hessians are symmetric up to round-off; they
 /// are averaged with their transposes.
 #[inline(always)]
@@ -102,14 +215,23 @@ fn point_hessian(
     ws: f64,
     wq: f64,
     h: &mut PointMatrix,
+    mut rows: Option<&mut ResidualRows>,
 ) -> (f64, f64, [f64; VARS]) {
     let mut g = [0.0; VARS];
     let d = unpack(x);
+    if let Some(rows) = rows.as_deref_mut() {
+        *rows = [[0.0; VARS]; RESIDUALS];
+    }
     let s = if ws != 0.0 {
         let dt: [[Tangent<VARS>; 3]; DERIVATIVES] = std::array::from_fn(|k| {
             std::array::from_fn(|a| Tangent::variable(x[3 * k + a], 3 * k + a))
         });
-        let (s, gs) = s_density_gradient(&dt);
+        let (s, gs, r) = s_density_gradient_residual(&dt);
+        if let Some(rows) = rows.as_deref_mut() {
+            set_residual_rows(&mut rows[..2], &r, ws, |i| {
+                std::slice::from_ref(&IDENTITY[i])
+            });
+        }
         for i in 0..VARS {
             let gi = &gs[i / 3][i % 3];
             g[i] = ws * gi.re;
@@ -128,6 +250,9 @@ fn point_hessian(
     let qt: [[Tangent<Q_VARS>; 3]; 4] =
         std::array::from_fn(|i| std::array::from_fn(|a| Tangent::variable(qx[i][a], 3 * i + a)));
     let (q, gq) = q_density_gradient(&qt);
+    if let Some(rows) = rows {
+        set_residual_rows(&mut rows[2..], &q_residual(&qt), wq, |i| Q_COORDINATES[i]);
+    }
     for (i, di) in Q_MAP.iter().enumerate() {
         for a in 0..3 {
             let gia = &gq[i][a];
@@ -189,7 +314,9 @@ struct Group {
 struct Partial {
     terms: Terms,
     g: Vec<f64>,
+    /// Blocks of the exact Hessian, and of the Gauss–Newton part (empty if not asked for).
     values: Vec<[[f64; 3]; 3]>,
+    gauss_newton_values: Vec<[[f64; 3]; 3]>,
     /// The point Hessian.
     h: Box<PointMatrix>,
     /// The patch's points' maps J_p = C_p ⊗ I₃ from vertex to derivative coordinates,
@@ -197,19 +324,23 @@ struct Partial {
     maps: Mat<f64>,
     /// The same rows multiplied by the points' Hessians: H_p J_p.
     weighted: Mat<f64>,
+    /// The patch's points' Gauss–Newton rows R_p J_p, stacked: 8 rows per point.
+    rows: Mat<f64>,
     /// The patch matrix Σ_p J_pᵀ H_p J_p over the patch's vertex coordinates.
     local: Mat<f64>,
 }
 
 impl Partial {
-    fn new(free_count: usize, blocks: usize) -> Self {
+    fn new(free_count: usize, blocks: usize, gauss_newton_blocks: usize) -> Self {
         Partial {
             terms: Terms::default(),
             g: vec![0.0; 3 * free_count],
             values: vec![[[0.0; 3]; 3]; blocks],
+            gauss_newton_values: vec![[[0.0; 3]; 3]; gauss_newton_blocks],
             h: Box::new([[0.0; VARS]; VARS]),
             maps: Mat::new(),
             weighted: Mat::new(),
+            rows: Mat::new(),
             local: Mat::new(),
         }
     }
@@ -220,10 +351,15 @@ impl Partial {
         for (a, b) in self.g.iter_mut().zip(&other.g) {
             *a += b;
         }
-        for (a, b) in self.values.iter_mut().zip(&other.values) {
-            for (ra, rb) in a.iter_mut().zip(b) {
-                for (x, y) in ra.iter_mut().zip(rb) {
-                    *x += y;
+        for (mine, theirs) in [
+            (&mut self.values, &other.values),
+            (&mut self.gauss_newton_values, &other.gauss_newton_values),
+        ] {
+            for (a, b) in mine.iter_mut().zip(theirs) {
+                for (ra, rb) in a.iter_mut().zip(b) {
+                    for (x, y) in ra.iter_mut().zip(rb) {
+                        *x += y;
+                    }
                 }
             }
         }
@@ -388,7 +524,7 @@ impl<'a, R: Representation> Functional<'a, R> {
             .groups
             .par_chunks(chunk_len(self.groups.len()))
             .map(|chunk| {
-                let mut acc = Partial::new(self.free_count, 0);
+                let mut acc = Partial::new(self.free_count, 0, 0);
                 for k in chunk.iter().flat_map(|group| group.points.clone()) {
                     let p = &self.rep.points()[k];
                     let x = point_derivatives(self.rep, k, positions);
@@ -403,7 +539,7 @@ impl<'a, R: Representation> Functional<'a, R> {
             .collect::<Vec<_>>()
             .into_iter()
             .reduce(Partial::merge)
-            .unwrap_or_else(|| Partial::new(self.free_count, 0));
+            .unwrap_or_else(|| Partial::new(self.free_count, 0, 0));
         let mut t = total.terms;
         t.f = t.s + self.c * t.q;
         (t, total.g)
@@ -426,16 +562,62 @@ impl<'a, R: Representation> Functional<'a, R> {
         }
     }
 
-    /// Adds one patch's terms, gradient and Hessian blocks to `acc`: the patch matrix
-    /// Σ_p J_pᵀ H_p J_p is two dense products (faer's SIMD kernels) over the stacked
-    /// points, then scattered once into the sparse blocks.
-    fn add_patch_hessian(&self, group: &Group, positions: &[[f64; 3]], acc: &mut Partial) {
+    /// Adds one patch's terms, gradient and Hessian blocks of `kind` to `acc`: patch
+    /// matrices over the patch's vertex coordinates ([`Self::exact_patch_matrix`],
+    /// [`Self::gauss_newton_rows`]), each scattered once into its sparse blocks.
+    fn add_patch_hessian(
+        &self,
+        group: &Group,
+        positions: &[[f64; 3]],
+        kind: HessianKind,
+        acc: &mut Partial,
+    ) {
+        let m = self.rep.points()[group.points.start].vertices.len();
+        match kind {
+            HessianKind::Exact => self.exact_patch_matrix(group, positions, false, acc),
+            HessianKind::Both => self.exact_patch_matrix(group, positions, true, acc),
+            HessianKind::GaussNewton => self.gauss_newton_rows(group, positions, acc),
+        }
+        if kind != HessianKind::GaussNewton {
+            scatter_patch(group, m, &acc.local, &mut acc.values);
+        }
+        if kind != HessianKind::Exact {
+            // Σ_p (R_p J_p)ᵀ (R_p J_p): one dense product over the stacked rows.
+            acc.local.resize_with(3 * m, 3 * m, |_, _| 0.0);
+            matmul(
+                acc.local.as_mut(),
+                Accum::Replace,
+                acc.rows.as_ref().transpose(),
+                acc.rows.as_ref(),
+                1.0,
+                Par::Seq,
+            );
+            scatter_patch(group, m, &acc.local, &mut acc.gauss_newton_values);
+        }
+    }
+
+    /// Adds the patch's terms and gradient to `acc` and puts Σ_p J_pᵀ H_p J_p in
+    /// `acc.local`: two dense products (faer's SIMD kernels) over the stacked points.
+    /// With `rows`, also the points' Gauss–Newton rows in vertex coordinates in
+    /// `acc.rows` (see [`Self::gauss_newton_rows`]).
+    fn exact_patch_matrix(
+        &self,
+        group: &Group,
+        positions: &[[f64; 3]],
+        rows: bool,
+        acc: &mut Partial,
+    ) {
         let points = self.rep.points();
         let m = points[group.points.start].vertices.len();
-        let rows = VARS * group.points.len();
-        acc.maps.resize_with(rows, 3 * m, |_, _| 0.0);
+        let n = VARS * group.points.len();
+        acc.maps.resize_with(n, 3 * m, |_, _| 0.0);
         acc.maps.fill(0.0);
-        acc.weighted.resize_with(rows, 3 * m, |_, _| 0.0);
+        acc.weighted.resize_with(n, 3 * m, |_, _| 0.0);
+        if rows {
+            acc.rows
+                .resize_with(RESIDUALS * group.points.len(), 3 * m, |_, _| 0.0);
+        }
+        let mut point_rows = [[0.0; VARS]; RESIDUALS];
         for (i, k) in group.points.clone().enumerate() {
             let p = &points[k];
             let x = point_derivatives(self.rep, k, positions);
@@ -445,10 +627,14 @@ impl<'a, R: Representation> Functional<'a, R> {
                 ws,
                 wq,
                 h: &mut acc.h,
+                rows: rows.then_some(&mut point_rows),
             });
             acc.terms.s += ws * s;
             acc.terms.q += p.weight_q * q;
             self.scatter_gradient(k, &grad, &mut acc.g);
+            if rows {
+                map_rows(p, &point_rows, RESIDUALS * i, &mut acc.rows);
+            }
             let top = VARS * i;
             for (l, c) in p.coefficients.iter().enumerate() {
                 for (d, &cd) in c.iter().enumerate() {
@@ -476,49 +662,131 @@ impl<'a, R: Representation> Functional<'a, R> {
             1.0,
             Par::Seq,
         );
-        for k in 0..m {
-            for l in k..m {
-                let slot = group.slots[k * m + l];
-                if slot == u32::MAX {
-                    continue;
-                }
-                let block = &mut acc.values[slot as usize];
-                for (a, row) in block.iter_mut().enumerate() {
-                    for (b, x) in row.iter_mut().enumerate() {
-                        *x += acc.local[(3 * k + a, 3 * l + b)];
-                    }
-                }
-            }
+    }
+
+    /// Adds the patch's terms and gradient to `acc` and puts the points' Gauss–Newton
+    /// rows mapped to vertex coordinates, R_p J_p (8 rows per point instead of the exact
+    /// Hessian's 27), stacked in `acc.rows`.
+    fn gauss_newton_rows(&self, group: &Group, positions: &[[f64; 3]], acc: &mut Partial) {
+        let points = self.rep.points();
+        let m = points[group.points.start].vertices.len();
+        acc.rows
+            .resize_with(RESIDUALS * group.points.len(), 3 * m, |_, _| 0.0);
+        let mut point_rows = [[0.0; VARS]; RESIDUALS];
+        for (i, k) in group.points.clone().enumerate() {
+            let p = &points[k];
+            let x = point_derivatives(self.rep, k, positions);
+            let (ws, wq) = (p.weight_s, self.c * p.weight_q);
+            let (s, q, grad) = self.arch.dispatch(PointGaussNewton {
+                x: &x,
+                ws,
+                wq,
+                rows: &mut point_rows,
+            });
+            acc.terms.s += ws * s;
+            acc.terms.q += p.weight_q * q;
+            self.scatter_gradient(k, &grad, &mut acc.g);
+            map_rows(p, &point_rows, RESIDUALS * i, &mut acc.rows);
         }
     }
 
     /// The terms, gradient and Hessian of F̃ (eq. 7's g and H).
     pub fn hessian(&self, positions: &[[f64; 3]]) -> (Terms, Vec<f64>, BlockHessian) {
-        let blocks = self.blocks.len();
+        let out = self.hessians(positions, HessianKind::Exact);
+        (
+            out.terms,
+            out.gradient,
+            out.exact.expect("the exact Hessian was asked for"),
+        )
+    }
+
+    /// The terms, gradient and the Hessians of `kind` of F̃, from one pass over the
+    /// quadrature points.
+    pub fn hessians(&self, positions: &[[f64; 3]], kind: HessianKind) -> Hessians {
+        let exact = if kind == HessianKind::GaussNewton {
+            0
+        } else {
+            self.blocks.len()
+        };
+        let gauss_newton = if kind == HessianKind::Exact {
+            0
+        } else {
+            self.blocks.len()
+        };
+        let new = || Partial::new(self.free_count, exact, gauss_newton);
         let total = self
             .groups
             .par_chunks(chunk_len(self.groups.len()))
             .map(|chunk| {
-                let mut acc = Partial::new(self.free_count, blocks);
+                let mut acc = new();
                 for group in chunk {
-                    self.add_patch_hessian(group, positions, &mut acc);
+                    self.add_patch_hessian(group, positions, kind, &mut acc);
                 }
                 acc
             })
             .collect::<Vec<_>>()
             .into_iter()
             .reduce(Partial::merge)
-            .unwrap_or_else(|| Partial::new(self.free_count, blocks));
-        let mut t = total.terms;
-        t.f = t.s + self.c * t.q;
-        (
-            t,
-            total.g,
-            BlockHessian {
+            .unwrap_or_else(new);
+        let mut terms = total.terms;
+        terms.f = terms.s + self.c * terms.q;
+        Hessians {
+            terms,
+            exact: (kind != HessianKind::GaussNewton).then(|| BlockHessian {
                 blocks: self.blocks.clone(),
                 values: total.values,
-            },
-        )
+            }),
+            gauss_newton: (kind != HessianKind::Exact).then(|| BlockHessian {
+                blocks: self.blocks.clone(),
+                values: total.gauss_newton_values,
+            }),
+            gradient: total.g,
+        }
+    }
+}
+
+/// The result of [`Functional::hessians`].
+pub struct Hessians {
+    pub terms: Terms,
+    pub gradient: Vec<f64>,
+    /// F̃'s exact Hessian, unless only the Gauss–Newton part was asked for.
+    pub exact: Option<BlockHessian>,
+    /// The Gauss–Newton part, if asked for.
+    pub gauss_newton: Option<BlockHessian>,
+}
+
+/// Point rows (27 derivative coordinates each) mapped to the point's vertex coordinates,
+/// R_p J_p, into `out` from row `top`.
+fn map_rows(p: &QuadraturePoint, rows: &ResidualRows, top: usize, out: &mut Mat<f64>) {
+    for (r, row) in rows.iter().enumerate() {
+        for (l, c) in p.coefficients.iter().enumerate() {
+            for a in 0..3 {
+                let mut sum = 0.0;
+                for (d, &cd) in c.iter().enumerate() {
+                    sum += cd * row[3 * d + a];
+                }
+                out[(top + r, 3 * l + a)] = sum;
+            }
+        }
+    }
+}
+
+/// Adds the patch matrix `local` (over the `m` patch vertices' coordinates) to the sparse
+/// blocks of its free vertex pairs.
+fn scatter_patch(group: &Group, m: usize, local: &Mat<f64>, values: &mut [[[f64; 3]; 3]]) {
+    for k in 0..m {
+        for l in k..m {
+            let slot = group.slots[k * m + l];
+            if slot == u32::MAX {
+                continue;
+            }
+            let block = &mut values[slot as usize];
+            for (a, row) in block.iter_mut().enumerate() {
+                for (b, x) in row.iter_mut().enumerate() {
+                    *x += local[(3 * k + a, 3 * l + b)];
+                }
+            }
+        }
     }
 }
 
@@ -639,7 +907,7 @@ mod tests {
         );
         let (own_value, own_grad) = s_density_gradient(&d);
         let mut h = [[0.0; VARS]; VARS];
-        let (s, _, g) = point_hessian(&x, 1.0, 0.0, &mut h);
+        let (s, _, g) = point_hessian(&x, 1.0, 0.0, &mut h, None);
         let scale = hess.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let gscale = grad.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         assert_near!(own_value, value, ROUND_OFF);
@@ -678,7 +946,7 @@ mod tests {
             &SVector::<f64, VARS>::from(x),
         );
         let mut h = [[0.0; VARS]; VARS];
-        let (_, q, g) = point_hessian(&x, 0.0, 1.0, &mut h);
+        let (_, q, g) = point_hessian(&x, 0.0, 1.0, &mut h, None);
         let (_, q_only, g_only) = point_gradient(&x, 0.0, 1.0);
         let scale = hess.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let gscale = grad.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -710,5 +978,73 @@ mod tests {
         d[5] = [3.0, 0.0, 0.0];
         let (_, q) = densities(&d);
         assert_near!(q, 9.0, ROUND_OFF);
+    }
+
+    #[test]
+    fn residuals_square_to_the_densities() {
+        let x: [f64; VARS] = std::array::from_fn(|i| {
+            let t = i as f64;
+            (0.7 * t + 0.3).sin() + if i == 0 || i == 4 { 2.0 } else { 0.0 }
+        });
+        let d = unpack(&x);
+        let (s, q) = densities(&d);
+        let r = s_residual(&d);
+        assert_near!(r[0] * r[0] + r[1] * r[1], s, ROUND_OFF);
+        let rq = q_residual(&q_vars(&d));
+        assert_near!(rq.iter().map(|v| v * v).sum::<f64>(), q, ROUND_OFF);
+    }
+
+    /// Σ rowᵀ row of [`point_gauss_newton`]'s rows, and its gradient.
+    fn gauss_newton_matrix(x: &[f64; VARS], ws: f64, wq: f64, h: &mut PointMatrix) -> [f64; VARS] {
+        let mut rows = [[0.0; VARS]; RESIDUALS];
+        let (_, _, g) = point_gauss_newton(x, ws, wq, &mut rows);
+        for i in 0..VARS {
+            for j in 0..VARS {
+                h[i][j] = rows.iter().map(|r| r[i] * r[j]).sum();
+            }
+        }
+        g
+    }
+
+    /// The largest |entry| of the difference of two point matrices over that of `b`.
+    fn relative_difference(a: &PointMatrix, b: &PointMatrix) -> f64 {
+        let scale = b.as_flattened().iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let diff = a
+            .as_flattened()
+            .iter()
+            .zip(b.as_flattened())
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        diff / scale
+    }
+
+    #[test]
+    fn gauss_newton_part_is_the_hessian_where_the_residuals_vanish() {
+        // H = 2 JᵀJ + 2 Σ r_k ∇²r_k: on a sphere ∇H = 0, so S's residuals vanish and the
+        // exact Hessian (checked against num-dual above) is its Gauss–Newton part.
+        let sphere = point(0.3, -0.4, 2.0);
+        let x: [f64; VARS] = std::array::from_fn(|i| sphere[i / 3][i % 3]);
+        let (mut exact, mut gauss_newton) = ([[0.0; VARS]; VARS], [[0.0; VARS]; VARS]);
+        let (_, _, g) = point_hessian(&x, 1.0, 0.0, &mut exact, None);
+        let g_gn = gauss_newton_matrix(&x, 1.0, 0.0, &mut gauss_newton);
+        assert_eq!(g, g_gn);
+        assert!(relative_difference(&gauss_newton, &exact) < 1e-12);
+        // Q: third derivatives along the normal are projected away, P ∇Δp = 0.
+        let mut d = [[0.0; 3]; DERIVATIVES];
+        d[0] = [1.0, 0.2, 0.0];
+        d[1] = [0.1, 1.0, 0.0];
+        d[5] = [0.0, 0.0, 2.0];
+        d[8] = [0.0, 0.0, -1.0];
+        let x: [f64; VARS] = std::array::from_fn(|i| d[i / 3][i % 3]);
+        point_hessian(&x, 0.0, 1.0, &mut exact, None);
+        gauss_newton_matrix(&x, 0.0, 1.0, &mut gauss_newton);
+        assert!(relative_difference(&gauss_newton, &exact) < 1e-12);
+        // Away from such points the two differ.
+        let x: [f64; VARS] = std::array::from_fn(|i| {
+            let t = i as f64;
+            (1.3 * t + 0.1).cos() + if i == 0 || i == 4 { 2.0 } else { 0.0 }
+        });
+        point_hessian(&x, 1.0, 1.0, &mut exact, None);
+        gauss_newton_matrix(&x, 1.0, 1.0, &mut gauss_newton);
+        assert!(relative_difference(&gauss_newton, &exact) > 1e-3);
     }
 }

@@ -46,9 +46,11 @@ pub use blocks::voronoi_blocks;
 pub use cholesky::{Factor, Factorizer};
 pub use curvature_map::curvature_samples;
 pub use disc::sector_disc;
-pub use functional::{BlockHessian, Functional, Terms};
+pub use functional::{BlockHessian, Functional, HessianKind, Terms};
 pub use levels::{optimize_levels, optimize_levels_observed, CoarseToFine, LevelReport};
-pub use optimize::{newton, newton_observed, Iteration, NewtonOptions, NewtonReport, StepKind};
+pub use optimize::{
+    newton, newton_observed, Iteration, LmMatrix, NewtonOptions, NewtonReport, StepKind,
+};
 pub use pcg::{multiply, pcg, CgOutcome, CgStop};
 pub use prepare::{fixed_vertices, prepare};
 pub use quadrature::{gauss_legendre, MAX_NODES};

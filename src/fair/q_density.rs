@@ -41,3 +41,20 @@ pub fn q_density_gradient<T: Num>(q: &[V<T>; 4]) -> (T, [V<T>; 4]) {
     let pv_bar: V<T> = std::array::from_fn(|i| (g_bar * pv[i]).scale(2.0) + f_bar * pu[i] + cv[i]);
     (value, [pu_bar, pv_bar, lu_bar, lv_bar])
 }
+
+/// Q's density as a sum of squares: the six coordinates of P ∂Δp/∂u and P ∂Δp/∂v, with
+/// P x = x − n (n·x) / ‖n‖² (see [`q_density`]); its Jacobian gives the Gauss–Newton part.
+#[inline(always)]
+pub fn q_residual<T: Num>(q: &[V<T>; 4]) -> [T; 6] {
+    let [pu, pv, lap_u, lap_v] = q;
+    let n = cross(pu, pv);
+    let w2 = dot(&n, &n);
+    let (a, b) = (dot(&n, lap_u) / w2, dot(&n, lap_v) / w2);
+    std::array::from_fn(|i| {
+        if i < 3 {
+            lap_u[i] - a * n[i]
+        } else {
+            lap_v[i - 3] - b * n[i - 3]
+        }
+    })
+}

@@ -127,6 +127,28 @@ pub fn s_density<T: Num>(d: &[V<T>; 9]) -> T {
     (du * du * p.g - (du * dv * p.f).scale(2.0) + dv * dv * p.e) / p.w
 }
 
+/// S's density as a sum of two squares, r₁² + r₂² (eq. 3 with G⁻¹ = L⁻ᵀL⁻¹, G = LLᵀ):
+/// r = √W · L⁻¹ ∇Hᵀ = √W · (H_u / √E, (E H_v − F H_u) / (√E W)). Its Jacobian gives the
+/// Gauss–Newton part 2 JᵀJ of the density's Hessian, positive semidefinite everywhere.
+#[inline(always)]
+pub fn s_residual<T: Num>(d: &[V<T>; 9]) -> [T; 2] {
+    let base = [&d[0], &d[1], &d[2], &d[3], &d[4]];
+    let p = point(base[0], base[1], base[2], base[3], base[4]);
+    let [hu, hv] = directions(d).map(|a| directional(&base, &p, &a).h);
+    residual(hu, hv, &p)
+}
+
+/// [`s_residual`] from H_u, H_v and the point's metric.
+#[inline(always)]
+fn residual<T: Num>(hu: T, hv: T, p: &Point<T>) -> [T; 2] {
+    let root_e = p.e.sqrt();
+    let root_w = p.w.sqrt();
+    [
+        root_w * hu / root_e,
+        (p.e * hv - p.f * hu) / (root_e * root_w),
+    ]
+}
+
 /// Adjoints of the base quantities, accumulated by both directions.
 struct PointBar<T> {
     e: T,
@@ -215,6 +237,13 @@ fn directional_adjoint<T: Num>(
 /// by reverse accumulation through [`s_density`]'s operations.
 #[inline(always)]
 pub fn s_density_gradient<T: Num>(d: &[V<T>; 9]) -> (T, [V<T>; 9]) {
+    let (value, out, _) = s_density_gradient_residual(d);
+    (value, out)
+}
+
+/// [`s_density_gradient`] and [`s_residual`] from one evaluation of H_u and H_v.
+#[inline(always)]
+pub fn s_density_gradient_residual<T: Num>(d: &[V<T>; 9]) -> (T, [V<T>; 9], [T; 2]) {
     let zero = T::constant(0.0);
     let base = [&d[0], &d[1], &d[2], &d[3], &d[4]];
     let p = point(base[0], base[1], base[2], base[3], base[4]);
@@ -289,5 +318,5 @@ pub fn s_density_gradient<T: Num>(d: &[V<T>; 9]) -> (T, [V<T>; 9]) {
     axpy(&mut out[0], pb.f, &d[1]);
     axpy(&mut out[1], pb.f, &d[0]);
     axpy(&mut out[1], pb.g.scale(2.0), &d[1]);
-    (value, out)
+    (value, out, residual(hu, hv, &p))
 }
