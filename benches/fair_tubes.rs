@@ -187,8 +187,8 @@ fn raw_start(
         }
     );
     println!(
-        "        {}; converged {} stalled {} stuck {}; CPU {cpu:.1} s on {} threads, {:.1} s in {} Hessians, \
-         {:.1} s in {} factorizations; {}",
+        "        {}; converged {} stalled {} stuck {}; CPU {cpu:.1} s on {} threads, {:.1} s in {} Hessians \
+         and {} Gauss–Newton parts, {:.1} s in {} factorizations; {}",
         if levels > 0 {
             format!("{n} tubes refined {levels}x")
         } else {
@@ -200,6 +200,7 @@ fn raw_start(
         rayon::current_num_threads(),
         report.newton.hessian_seconds,
         report.newton.hessian_evaluations,
+        report.newton.gauss_newton_evaluations,
         report.newton.factorization_seconds,
         report.newton.factorizations,
         isolation.join("; ")

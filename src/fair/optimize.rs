@@ -312,7 +312,8 @@ impl<R: Representation> Stepper<'_, '_, R> {
     /// longer steps (smaller ν) when the decrease matched the model's prediction (ratio
     /// ≥ 3/4) and no smaller ν has failed already, towards shorter ones when it fell far
     /// short (ratio < 1/4), nowhere in between. (Trying both directions every time cost 124
-    /// factorizations at 14399 vertices instead of 100, with the same 29 Hessians.)
+    /// factorizations at 14399 vertices instead of 100, with the same 29 Hessians, on the
+    /// exact trajectory.)
     /// `None` when no ν decreases F.
     fn lm_search(
         &mut self,
