@@ -115,38 +115,51 @@ fn fair_optimize_levels_reach_the_raw_start_minimum() {
 }
 
 #[test]
-fn fair_optimize_lm_matrices_reach_the_same_minimum() {
-    // The Levenberg–Marquardt trajectory over the exact Hessian (the paper's eq. 8–9) and
-    // over its Gauss–Newton part take different paths (figure-10 junction, 1677 vertices,
-    // where most steps are Levenberg–Marquardt steps) to the same minimizer.
+fn fair_optimize_paper_steps_and_default_steps_reach_the_same_minimum() {
+    // The paper's steps (full Newton steps, else the Levenberg–Marquardt trajectory over
+    // the exact Hessian, eq. 8–9) and the default ones (halved Newton steps first, the
+    // trajectory over the Gauss–Newton part) take different paths (figure-10 junction,
+    // 1677 vertices, mostly Levenberg–Marquardt steps) to the same minimizer.
     let mesh = tubes(5, 8, 2).unwrap();
-    let run = |lm_matrix| {
+    let run = |lm_matrix, newton_halvings| {
         let mut options = FairOptions {
             max_refinements: 0,
             ..FairOptions::default()
         };
         options.newton.lm_matrix = lm_matrix;
+        options.newton.newton_halvings = newton_halvings;
         optimize(&mesh, &options).unwrap()
     };
-    let (exact, exact_report) = run(LmMatrix::Exact);
-    let (gauss_newton, report) = run(LmMatrix::GaussNewton);
+    let (paper, paper_report) = run(LmMatrix::Exact, 0);
+    let (default, report) = run(LmMatrix::GaussNewton, 4);
+    let kinds = |r: &surfkit::fair::FairReport| {
+        r.newton
+            .iterations
+            .iter()
+            .map(|it| format!("{:?}", it.step))
+            .collect::<Vec<_>>()
+    };
     eprintln!(
-        "exact: F {:.9e}, {} Hessians; Gauss–Newton: F {:.9e}, {} Hessians + {} Gauss–Newton",
-        exact_report.final_terms.f,
-        exact_report.newton.hessian_evaluations,
+        "paper: F {:.9e}, {} Hessians, {:?}\ndefault: F {:.9e}, {} Hessians + {} Gauss–Newton, {:?}",
+        paper_report.final_terms.f,
+        paper_report.newton.hessian_evaluations,
+        kinds(&paper_report),
         report.final_terms.f,
         report.newton.hessian_evaluations,
-        report.newton.gauss_newton_evaluations
+        report.newton.gauss_newton_evaluations,
+        kinds(&report)
     );
-    assert!(exact_report.newton.converged && report.newton.converged);
-    assert_eq!(exact_report.newton.gauss_newton_evaluations, 0);
+    assert!(paper_report.newton.converged && report.newton.converged);
+    assert_eq!(paper_report.newton.gauss_newton_evaluations, 0);
+    assert!(!kinds(&paper_report).contains(&"DampedNewton".to_string()));
     assert!(report.newton.gauss_newton_evaluations > 0);
-    let (f0, f1) = (exact_report.final_terms.f, report.final_terms.f);
+    assert!(kinds(&report).contains(&"DampedNewton".to_string()));
+    let (f0, f1) = (paper_report.final_terms.f, report.final_terms.f);
     assert!((f0 - f1).abs() <= 1e-9 * f0, "F {f0} vs {f1}");
-    let largest = exact
+    let largest = paper
         .positions
         .iter()
-        .zip(&gauss_newton.positions)
+        .zip(&default.positions)
         .flat_map(|(p, q)| (0..3).map(move |a| (p[a] - q[a]).abs()))
         .fold(0.0f64, f64::max);
     assert!(largest < 1e-4, "vertices differ by {largest}");

@@ -80,6 +80,10 @@ pub struct FairArgs {
     /// paper: fewer iterations to the same minimum).
     #[arg(long)]
     pub lm_exact_hessian: bool,
+    /// When a Newton step does not decrease F, try up to this many halvings of it before
+    /// the Levenberg–Marquardt search (0: straight to the search, as the paper).
+    #[arg(long, default_value_t = 4)]
+    pub newton_halvings: usize,
     /// Coarse-to-fine (paper §6): optimize the input, then this many times refine its
     /// surface (Catmull–Clark dropping the boundary ring, as `gen tubes --refine`) and
     /// optimize again from the refined optimum; writes the finest level. The finest problem
@@ -227,6 +231,7 @@ fn options(args: &FairArgs) -> FairOptions {
     if args.lm_exact_hessian {
         options.newton.lm_matrix = LmMatrix::Exact;
     }
+    options.newton.newton_halvings = args.newton_halvings;
     options.blocks = args.blocks.map(|count| BlockOptions {
         count,
         overlap: args.overlap,
