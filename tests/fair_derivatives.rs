@@ -74,18 +74,8 @@ fn check_gradient_and_hessian(mesh: &PolygonMesh, hessian_columns: usize) {
             "gradient entry {k}"
         );
     }
-    // Dense Hessian from the upper-triangle blocks.
     let n = g.len();
-    let mut dense = vec![0.0; n * n];
-    for (&(i, j), b) in h.blocks.iter().zip(&h.values) {
-        for (a, row) in b.iter().enumerate() {
-            for (c, &x) in row.iter().enumerate() {
-                let (r, s) = (3 * i as usize + a, 3 * j as usize + c);
-                dense[r * n + s] = x;
-                dense[s * n + r] = x;
-            }
-        }
-    }
+    let dense = dense(&h, n);
     let hscale = dense.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let stride = (n / hessian_columns).max(1);
     for k in (0..n).step_by(stride) {

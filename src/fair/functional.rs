@@ -526,13 +526,8 @@ impl<'a, R: Representation> Functional<'a, R> {
             .map(|chunk| {
                 let mut acc = Partial::new(self.free_count, 0, 0);
                 for k in chunk.iter().flat_map(|group| group.points.clone()) {
-                    let p = &self.rep.points()[k];
-                    let x = point_derivatives(self.rep, k, positions);
-                    let (ws, wq) = (p.weight_s, self.c * p.weight_q);
-                    let (s, q, grad) = point_gradient(&x, ws, wq);
-                    acc.terms.s += ws * s;
-                    acc.terms.q += p.weight_q * q;
-                    self.scatter_gradient(k, &grad, &mut acc.g);
+                    let (x, ws, wq) = self.point_input(k, positions);
+                    self.add_point(k, point_gradient(&x, ws, wq), &mut acc);
                 }
                 acc
             })
@@ -543,6 +538,25 @@ impl<'a, R: Representation> Functional<'a, R> {
         let mut t = total.terms;
         t.f = t.s + self.c * t.q;
         (t, total.g)
+    }
+
+    /// Point `k`'s derivatives and the weights of its S and Q densities in F.
+    fn point_input(&self, k: usize, positions: &[[f64; 3]]) -> ([f64; VARS], f64, f64) {
+        let p = &self.rep.points()[k];
+        (
+            point_derivatives(self.rep, k, positions),
+            p.weight_s,
+            self.c * p.weight_q,
+        )
+    }
+
+    /// Adds point `k`'s weighted densities and its gradient `(s, q, grad)` (the latter
+    /// over the 27 derivative coordinates) to `acc`.
+    fn add_point(&self, k: usize, (s, q, grad): (f64, f64, [f64; VARS]), acc: &mut Partial) {
+        let p = &self.rep.points()[k];
+        acc.terms.s += p.weight_s * s;
+        acc.terms.q += p.weight_q * q;
+        self.scatter_gradient(k, &grad, &mut acc.g);
     }
 
     fn scatter_gradient(&self, k: usize, grad: &[f64], g: &mut [f64]) {
@@ -620,18 +634,15 @@ impl<'a, R: Representation> Functional<'a, R> {
         let mut point_rows = [[0.0; VARS]; RESIDUALS];
         for (i, k) in group.points.clone().enumerate() {
             let p = &points[k];
-            let x = point_derivatives(self.rep, k, positions);
-            let (ws, wq) = (p.weight_s, self.c * p.weight_q);
-            let (s, q, grad) = self.arch.dispatch(PointHessian {
+            let (x, ws, wq) = self.point_input(k, positions);
+            let point = self.arch.dispatch(PointHessian {
                 x: &x,
                 ws,
                 wq,
                 h: &mut acc.h,
                 rows: rows.then_some(&mut point_rows),
             });
-            acc.terms.s += ws * s;
-            acc.terms.q += p.weight_q * q;
-            self.scatter_gradient(k, &grad, &mut acc.g);
+            self.add_point(k, point, acc);
             if rows {
                 map_rows(p, &point_rows, RESIDUALS * i, &mut acc.rows);
             }
@@ -675,17 +686,14 @@ impl<'a, R: Representation> Functional<'a, R> {
         let mut point_rows = [[0.0; VARS]; RESIDUALS];
         for (i, k) in group.points.clone().enumerate() {
             let p = &points[k];
-            let x = point_derivatives(self.rep, k, positions);
-            let (ws, wq) = (p.weight_s, self.c * p.weight_q);
-            let (s, q, grad) = self.arch.dispatch(PointGaussNewton {
+            let (x, ws, wq) = self.point_input(k, positions);
+            let point = self.arch.dispatch(PointGaussNewton {
                 x: &x,
                 ws,
                 wq,
                 rows: &mut point_rows,
             });
-            acc.terms.s += ws * s;
-            acc.terms.q += p.weight_q * q;
-            self.scatter_gradient(k, &grad, &mut acc.g);
+            self.add_point(k, point, acc);
             map_rows(p, &point_rows, RESIDUALS * i, &mut acc.rows);
         }
     }
