@@ -4,9 +4,9 @@
 //! per sparsity pattern; the factor's storage and faer's workspace are kept and reused by
 //! every numeric factorization, because a Levenberg–Marquardt search factors H + νI many
 //! times and fresh buffers of hundreds of megabytes are paid for in page faults
-//! (measured at 14399 vertices: 154 factorizations took 92 s with fresh buffers, 68 s
-//! reusing them). A nested-dissection ordering (METIS) was measured too: 17 % less fill
-//! than AMD on these meshes but no faster, so AMD stays.
+//! (measured in an earlier session at 14399 vertices: 154 factorizations took 92 s with
+//! fresh buffers, 68 s reusing them). A nested-dissection ordering (METIS) was measured
+//! then too: 17 % less fill than AMD on these meshes but no faster, so AMD stays.
 
 use std::sync::Arc;
 
