@@ -7,19 +7,21 @@
 //! (default `359,1007`). Times are wall-clock on all cores (rayon; `RAYON_NUM_THREADS=1`
 //! for one), the paper's and BSTools' on one core. OpenSubdiv's
 //! isolation level around extraordinary vertices: `FAIR_BENCH_ISOLATION` (default 4);
-//! `FAIR_BENCH_WARM_START=2` first optimizes at level 2 (see `FairOptions`).
+//! `FAIR_BENCH_WARM_START=2` first optimizes at level 2 (see `FairOptions`);
+//! `FAIR_BENCH_C_SPECIAL`: Cᵢ of the elements at special vertices (default
+//! `fair::DEFAULT_C_SPECIAL`).
 //!
 //! Each refined size is also run coarse-to-fine (`fair::optimize_levels`, as the paper's §6
 //! did for figure 7): from the raw coarsest mesh of its family, optimized, refined, and
 //! optimized again from the refined optimum; the time printed is the whole cascade's.
 //! `FAIR_BENCH_LEVELS=0` skips these rows; `FAIR_BENCH_RAW=0` skips the raw-start rows of
-//! refined sizes (23997 vertices from a raw start did not converge in 25 minutes).
+//! refined sizes.
 
 use std::time::Instant;
 
 use surfkit::fair::{
     fixed_vertices, optimize, optimize_levels, refine_surface, tubes, FairOptions, Functional,
-    MeshTopology, PatchRepresentation,
+    MeshTopology, PatchRepresentation, RepresentationOptions,
 };
 
 /// (vertices, tubes, m, rings, surface refinements, paper Table 1 seconds, BSTools seconds
@@ -49,19 +51,21 @@ fn cpu_seconds() -> Option<f64> {
     Some(ticks / 100.0)
 }
 
-/// F of `positions` with the end caps isolated at `isolation` levels.
+/// F of `positions` with the end caps isolated at `isolation` levels (other options as
+/// `representation`).
 fn f_at_isolation(
     mesh: &surfkit::mesh::PolygonMesh,
     positions: &[[f64; 3]],
+    representation: &RepresentationOptions,
     isolation: u32,
     c: f64,
 ) -> surfkit::Result<f64> {
     let topo = MeshTopology::new(mesh)?;
     let fixed = fixed_vertices(&topo, 3, &[])?;
     let special = topo.special_flags();
-    let options = surfkit::fair::RepresentationOptions {
+    let options = RepresentationOptions {
         isolation,
-        ..Default::default()
+        ..representation.clone()
     };
     let rep = PatchRepresentation::new(mesh, &topo.boundary, &special, &options)?;
     Ok(Functional::new(&rep, &fixed, c).value(positions).f)
@@ -101,6 +105,12 @@ fn main() -> surfkit::Result<()> {
             .and_then(|s| s.parse().ok())
         {
             options.representation.isolation = level;
+        }
+        if let Some(c) = std::env::var("FAIR_BENCH_C_SPECIAL")
+            .ok()
+            .and_then(|s| s.parse().ok())
+        {
+            options.representation.c_special = c;
         }
         if let Some(level) = std::env::var("FAIR_BENCH_WARM_START")
             .ok()
@@ -155,8 +165,8 @@ fn raw_start(
     let isolation: Vec<String> = [3, 4, 5]
         .iter()
         .map(|&l| {
-            let f0 = f_at_isolation(mesh, &mesh.positions, l, report.c)?;
-            let f1 = f_at_isolation(mesh, &out.positions, l, report.c)?;
+            let f0 = f_at_isolation(mesh, &mesh.positions, &options.representation, l, report.c)?;
+            let f1 = f_at_isolation(mesh, &out.positions, &options.representation, l, report.c)?;
             Ok(format!("isolation {l}: F {f0:.6e} -> {f1:.6e}"))
         })
         .collect::<surfkit::Result<_>>()?;

@@ -11,7 +11,7 @@ use crate::error::Error;
 use crate::fair::{
     curvature_samples, optimize_levels_observed, read_fixed, refine_surface, shape_change, tubes,
     BlockOptions, EndCaps, FairOptions, FairReport, Iteration, LevelReport, LmMatrix, QDomain,
-    RepresentationOptions, ShapeChange,
+    RepresentationOptions, ShapeChange, DEFAULT_C_SPECIAL,
 };
 use crate::mesh::io::{read, write, WriteOptions};
 use crate::mesh::PolygonMesh;
@@ -38,8 +38,9 @@ pub struct FairArgs {
     /// Gauss–Legendre nodes per direction per patch.
     #[arg(long, default_value_t = 4)]
     pub nodes: usize,
-    /// Cᵢ of elements at special vertices (ordinary elements: 1).
-    #[arg(long, default_value_t = 1.0)]
+    /// Cᵢ of elements at special vertices (ordinary elements: 1); smaller than 1 as the
+    /// paper suggests: at 1 the regularization pulls the mesh toward the special vertices.
+    #[arg(long, default_value_t = DEFAULT_C_SPECIAL)]
     pub c_special: f64,
     /// Integrate S over the end caps at extraordinary vertices too.
     #[arg(long)]

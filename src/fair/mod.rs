@@ -56,7 +56,7 @@ pub use prepare::{fixed_vertices, prepare};
 pub use quadrature::{gauss_legendre, MAX_NODES};
 pub use representation::{
     EndCaps, PatchRepresentation, QDomain, QuadraturePoint, Representation, RepresentationOptions,
-    DERIVATIVES,
+    DEFAULT_C_SPECIAL, DERIVATIVES,
 };
 pub use schwarz::Schwarz;
 pub use selection::{read_fixed, VCG_SELECTED};

@@ -60,8 +60,8 @@ pub enum QDomain {
     /// Every OpenSubdiv patch is an element E_i with its own domain [0, 1]² (eq. 5 sums
     /// over elements, each in its own parameters). Why: in the face's parameters ∇Δp of
     /// the Catmull–Clark limit grows without bound toward an extraordinary vertex and its
-    /// square is not integrable there, so Q would grow with the isolation level (×5.3 per
-    /// level on the raw 359-vertex junction, `tests/fair_q_domain.rs`) and make the
+    /// square is not integrable there, so Q would grow with the isolation level (×5 per
+    /// level by level 5 on the raw 359-vertex junction, `tests/fair_q_domain.rs`) and make the
     /// Hessian ever stiffer; in the sub-patch's own parameters a patch of size h weighs h⁴
     /// as much, and Q converges.
     /// S does not depend on the parameterization and is the same either way.
@@ -70,6 +70,23 @@ pub enum QDomain {
     /// The face's own (u, v) ∈ [0, 1]² for all its sub-patches.
     Face,
 }
+
+/// Default Cᵢ of the elements at special vertices (ordinary elements: 1).
+///
+/// The paper (§4) takes Cᵢ smaller there to lessen the regularization's effect on the
+/// shape, and warns that too small a Cᵢ can hurt convergence. With this representation
+/// Cᵢ = 1 was the value that hurt it: Q of the faces at a special vertex, in their
+/// sub-patches' own parameters, is positive even where the sectors around the vertex are
+/// planar affine grids, and its descent pulls their vertices toward the special vertex
+/// (`tests/fair_special_elements.rs`). On the 23997-vertex five-tube junction (saddles of
+/// valence 10) the optimizer followed that pull until patches two rings out nearly
+/// folded (|p_u| 2.6·10⁻⁴ against edges of 10⁻², sin∠(p_u, p_v) 0.09, Hessian diagonal
+/// 10²⁰ against 10¹¹ elsewhere) and stalled. From the raw mesh with Cᵢ = 0.25 it stopped
+/// at the gradient's round-off floor (5·10⁻⁸ of its start) after 30 Hessians; with 0.1 /
+/// 0.03 / 0.01 / 0.001 it converged in 21 / 16 / 15 / 14 Hessians to S = 581 / 568 /
+/// 563 / 560. The faces at the special vertex stay held by the regular patches around
+/// them, whose control nets contain the special vertex and its first ring.
+pub const DEFAULT_C_SPECIAL: f64 = 0.01;
 
 /// Options of [`PatchRepresentation::new`].
 #[derive(Debug, Clone, PartialEq)]
@@ -80,8 +97,9 @@ pub struct RepresentationOptions {
     pub isolation: u32,
     /// Cᵢ of ordinary elements (eq. 5).
     pub c_ordinary: f64,
-    /// Cᵢ of elements with a special vertex (smaller values lessen the regularization's
-    /// effect near special vertices, §4).
+    /// Cᵢ of elements with a special vertex (§4: smaller values lessen the
+    /// regularization's effect near special vertices). Default 0.01, see
+    /// [`DEFAULT_C_SPECIAL`].
     pub c_special: f64,
     pub end_caps: EndCaps,
     pub q_domain: QDomain,
@@ -93,7 +111,7 @@ impl Default for RepresentationOptions {
             nodes: 4,
             isolation: 4,
             c_ordinary: 1.0,
-            c_special: 1.0,
+            c_special: DEFAULT_C_SPECIAL,
             end_caps: EndCaps::ExcludeFromS,
             q_domain: QDomain::Patch,
         }
