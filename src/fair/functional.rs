@@ -121,7 +121,7 @@ pub enum HessianKind {
     /// F's exact Hessian (eq. 7).
     Exact,
     /// The Gauss–Newton part 2 Σ JᵀJ of the densities written as sums of squares
-    /// ([`s_residual`], [`q_residual`]): positive semidefinite everywhere.
+    /// (`s_density::s_residual`, `q_density::q_residual`): positive semidefinite everywhere.
     GaussNewton,
     /// Both, from the same tangents (6237 vertices, run totals: ≈ 0.76 s a pass against
     /// ≈ 0.65 s for the exact Hessian alone).

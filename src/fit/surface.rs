@@ -7,7 +7,7 @@ use crate::spline::{Cell, Space};
 /// Coefficients of the three components over a scalar space of dimension `dim`.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct VectorSpline {
-    /// coeffs[ℓ][k]: coefficient of ωₖ jₗ.
+    /// `coeffs[ℓ][k]`: coefficient of ωₖ jₗ.
     pub coeffs: [Vec<f64>; 3],
 }
 

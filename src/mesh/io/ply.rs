@@ -846,7 +846,7 @@ fn label_names(comments: &[String], kind: &str) -> Vec<String> {
 
 /// The values of one scalar property of the `vertex` element: the first of `names` the
 /// header declares, with its name, or `None` when it declares none of them. For per-vertex
-/// data [`parse`] does not keep, such as MeshLab's selection in `flags`. Decodes the
+/// data `parse` does not keep, such as MeshLab's selection in `flags`. Decodes the
 /// elements up to the vertex element, one instance at a time (no fast path: selections are
 /// small files).
 ///
