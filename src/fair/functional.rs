@@ -123,9 +123,21 @@ pub enum HessianKind {
     /// The Gauss–Newton part 2 Σ JᵀJ of the densities written as sums of squares
     /// (`s_density::s_residual`, `q_density::q_residual`): positive semidefinite everywhere.
     GaussNewton,
-    /// Both, from the same tangents (6237 vertices, run totals: ≈ 0.76 s a pass against
-    /// ≈ 0.65 s for the exact Hessian alone).
+    /// Both, from the same tangents (6237 vertices, run totals of an earlier session:
+    /// ≈ 0.76 s a pass against ≈ 0.65 s for the exact Hessian alone).
     Both,
+}
+
+impl HessianKind {
+    /// Whether the exact Hessian is assembled.
+    fn exact(self) -> bool {
+        self != HessianKind::GaussNewton
+    }
+
+    /// Whether the Gauss–Newton part is assembled.
+    fn gauss_newton(self) -> bool {
+        self != HessianKind::Exact
+    }
 }
 
 /// Rows of the Gauss–Newton factor of one point: its Hessian part is `Σ rowᵀ row`.
@@ -178,6 +190,33 @@ fn set_residual_rows<const N: usize>(
     }
 }
 
+/// Rows 0–1 of `rows`: S's residuals ([`s_residual`]) over the 27 coordinates.
+#[inline(always)]
+fn set_s_rows(rows: &mut ResidualRows, r: &[Tangent<VARS>; 2], ws: f64) {
+    set_residual_rows(&mut rows[..2], r, ws, |i| {
+        std::slice::from_ref(&IDENTITY[i])
+    });
+}
+
+/// Rows 2–7 of `rows`: Q's residuals ([`q_residual`]) over its 12 variables, mapped.
+#[inline(always)]
+fn set_q_rows(rows: &mut ResidualRows, r: &[Tangent<Q_VARS>; 6], wq: f64) {
+    set_residual_rows(&mut rows[2..], r, wq, |i| Q_COORDINATES[i]);
+}
+
+/// The 27 derivative coordinates as forward-mode variables.
+#[inline(always)]
+fn s_tangents(x: &[f64; VARS]) -> [[Tangent<VARS>; 3]; DERIVATIVES] {
+    std::array::from_fn(|k| std::array::from_fn(|a| Tangent::variable(x[3 * k + a], 3 * k + a)))
+}
+
+/// Q's 12 variables ([`q_vars`]) as forward-mode variables.
+#[inline(always)]
+fn q_tangents(d: &[[f64; 3]; DERIVATIVES]) -> [[Tangent<Q_VARS>; 3]; 4] {
+    let qx = q_vars(d);
+    std::array::from_fn(|i| std::array::from_fn(|a| Tangent::variable(qx[i][a], 3 * i + a)))
+}
+
 /// Densities and gradient as [`point_hessian`], and in `rows` the Jacobians of the
 /// residuals ([`s_residual`], [`q_residual`]) scaled by √(2w), so that `Σ rowᵀ row` is the
 /// Gauss–Newton part of the point's Hessian ([`HessianKind::GaussNewton`]).
@@ -189,19 +228,10 @@ fn point_gauss_newton(
     rows: &mut ResidualRows,
 ) -> (f64, f64, [f64; VARS]) {
     *rows = [[0.0; VARS]; RESIDUALS];
-    let d = unpack(x);
     if ws != 0.0 {
-        let dt: [[Tangent<VARS>; 3]; DERIVATIVES] = std::array::from_fn(|k| {
-            std::array::from_fn(|a| Tangent::variable(x[3 * k + a], 3 * k + a))
-        });
-        set_residual_rows(&mut rows[..2], &s_residual(&dt), ws, |i| {
-            std::slice::from_ref(&IDENTITY[i])
-        });
+        set_s_rows(rows, &s_residual(&s_tangents(x)), ws);
     }
-    let qx = q_vars(&d);
-    let qt: [[Tangent<Q_VARS>; 3]; 4] =
-        std::array::from_fn(|i| std::array::from_fn(|a| Tangent::variable(qx[i][a], 3 * i + a)));
-    set_residual_rows(&mut rows[2..], &q_residual(&qt), wq, |i| Q_COORDINATES[i]);
+    set_q_rows(rows, &q_residual(&q_tangents(&unpack(x))), wq);
     point_gradient(x, ws, wq)
 }
 
@@ -224,14 +254,9 @@ fn point_hessian(
         *rows = [[0.0; VARS]; RESIDUALS];
     }
     let s = if ws != 0.0 {
-        let dt: [[Tangent<VARS>; 3]; DERIVATIVES] = std::array::from_fn(|k| {
-            std::array::from_fn(|a| Tangent::variable(x[3 * k + a], 3 * k + a))
-        });
-        let (s, gs, r) = s_density_gradient_residual(&dt);
+        let (s, gs, r) = s_density_gradient_residual(&s_tangents(x));
         if let Some(rows) = rows.as_deref_mut() {
-            set_residual_rows(&mut rows[..2], &r, ws, |i| {
-                std::slice::from_ref(&IDENTITY[i])
-            });
+            set_s_rows(rows, &r, ws);
         }
         for i in 0..VARS {
             let gi = &gs[i / 3][i % 3];
@@ -247,12 +272,10 @@ fn point_hessian(
         }
         s_density(&d)
     };
-    let qx = q_vars(&d);
-    let qt: [[Tangent<Q_VARS>; 3]; 4] =
-        std::array::from_fn(|i| std::array::from_fn(|a| Tangent::variable(qx[i][a], 3 * i + a)));
+    let qt = q_tangents(&d);
     let (q, gq) = q_density_gradient(&qt);
     if let Some(rows) = rows {
-        set_residual_rows(&mut rows[2..], &q_residual(&qt), wq, |i| Q_COORDINATES[i]);
+        set_q_rows(rows, &q_residual(&qt), wq);
     }
     for (i, di) in Q_MAP.iter().enumerate() {
         for a in 0..3 {
@@ -587,33 +610,22 @@ impl<'a, R: Representation> Functional<'a, R> {
         kind: HessianKind,
         acc: &mut Partial,
     ) {
-        let m = self.rep.points()[group.points.start].vertices.len();
         self.patch_points(group, positions, kind, acc);
-        if kind != HessianKind::GaussNewton {
+        if kind.exact() {
             // Σ_p J_pᵀ (H_p J_p): one dense product over the stacked points.
-            acc.local.resize_with(3 * m, 3 * m, |_, _| 0.0);
-            matmul(
-                acc.local.as_mut(),
-                Accum::Replace,
-                acc.maps.as_ref().transpose(),
-                acc.weighted.as_ref(),
-                1.0,
-                Par::Seq,
-            );
-            scatter_patch(group, m, &acc.local, &mut acc.values);
+            let (left, right) = (acc.maps.as_ref(), acc.weighted.as_ref());
+            add_product(group, left, right, &mut acc.local, &mut acc.values);
         }
-        if kind != HessianKind::Exact {
+        if kind.gauss_newton() {
             // Σ_p (R_p J_p)ᵀ (R_p J_p): one dense product over the stacked rows.
-            acc.local.resize_with(3 * m, 3 * m, |_, _| 0.0);
-            matmul(
-                acc.local.as_mut(),
-                Accum::Replace,
-                acc.rows.as_ref().transpose(),
-                acc.rows.as_ref(),
-                1.0,
-                Par::Seq,
+            let rows = acc.rows.as_ref();
+            add_product(
+                group,
+                rows,
+                rows,
+                &mut acc.local,
+                &mut acc.gauss_newton_values,
             );
-            scatter_patch(group, m, &acc.local, &mut acc.gauss_newton_values);
         }
     }
 
@@ -630,7 +642,7 @@ impl<'a, R: Representation> Functional<'a, R> {
     ) {
         let points = self.rep.points();
         let m = points[group.points.start].vertices.len();
-        let (exact, rows) = (kind != HessianKind::GaussNewton, kind != HessianKind::Exact);
+        let (exact, rows) = (kind.exact(), kind.gauss_newton());
         if exact {
             let n = VARS * group.points.len();
             acc.maps.resize_with(n, 3 * m, |_, _| 0.0);
@@ -700,17 +712,14 @@ impl<'a, R: Representation> Functional<'a, R> {
     /// The terms, gradient and the Hessians of `kind` of F̃, from one pass over the
     /// quadrature points.
     pub fn hessians(&self, positions: &[[f64; 3]], kind: HessianKind) -> Hessians {
-        let exact = if kind == HessianKind::GaussNewton {
-            0
-        } else {
-            self.blocks.len()
+        let blocks = |wanted: bool| if wanted { self.blocks.len() } else { 0 };
+        let new = || {
+            Partial::new(
+                self.free_count,
+                blocks(kind.exact()),
+                blocks(kind.gauss_newton()),
+            )
         };
-        let gauss_newton = if kind == HessianKind::Exact {
-            0
-        } else {
-            self.blocks.len()
-        };
-        let new = || Partial::new(self.free_count, exact, gauss_newton);
         let total = self
             .groups
             .par_chunks(chunk_len(self.groups.len()))
@@ -729,11 +738,11 @@ impl<'a, R: Representation> Functional<'a, R> {
         terms.f = terms.s + self.c * terms.q;
         Hessians {
             terms,
-            exact: (kind != HessianKind::GaussNewton).then(|| BlockHessian {
+            exact: kind.exact().then(|| BlockHessian {
                 blocks: self.blocks.clone(),
                 values: total.values,
             }),
-            gauss_newton: (kind != HessianKind::Exact).then(|| BlockHessian {
+            gauss_newton: kind.gauss_newton().then(|| BlockHessian {
                 blocks: self.blocks.clone(),
                 values: total.gauss_newton_values,
             }),
@@ -768,9 +777,26 @@ fn map_rows(p: &QuadraturePoint, rows: &ResidualRows, top: usize, out: &mut Mat<
     }
 }
 
-/// Adds the patch matrix `local` (over the `m` patch vertices' coordinates) to the sparse
-/// blocks of its free vertex pairs.
-fn scatter_patch(group: &Group, m: usize, local: &Mat<f64>, values: &mut [[[f64; 3]; 3]]) {
+/// Adds the patch matrix `leftᵀ right` (over the patch vertices' coordinates, computed in
+/// `local` by one dense product) to the sparse blocks of its free vertex pairs.
+fn add_product(
+    group: &Group,
+    left: MatRef<f64>,
+    right: MatRef<f64>,
+    local: &mut Mat<f64>,
+    values: &mut [[[f64; 3]; 3]],
+) {
+    let n = left.ncols();
+    local.resize_with(n, n, |_, _| 0.0);
+    matmul(
+        local.as_mut(),
+        Accum::Replace,
+        left.transpose(),
+        right,
+        1.0,
+        Par::Seq,
+    );
+    let m = n / 3;
     for k in 0..m {
         for l in k..m {
             let slot = group.slots[k * m + l];
@@ -887,15 +913,18 @@ mod tests {
         assert_near!(s, 0.0, ROUND_OFF);
     }
 
+    /// Derivative coordinates with no special structure, `wave(i)` each, plus a regular
+    /// metric (p_u, p_v near (2, 0, 0), (0, 2, 0)).
+    fn generic_derivatives(wave: impl Fn(f64) -> f64) -> [f64; VARS] {
+        std::array::from_fn(|i| wave(i as f64) + if i == 0 || i == 4 { 2.0 } else { 0.0 })
+    }
+
     #[test]
     fn forward_over_reverse_matches_num_dual() {
         // A generic point: derivatives with no special structure. num-dual's second-order
         // duals through the nested-dual formulation (an independent implementation of
         // eq. 3) against the reverse-accumulated gradient and its tangents.
-        let x: [f64; VARS] = std::array::from_fn(|i| {
-            let t = i as f64;
-            (0.7 * t + 0.3).sin() + if i == 0 || i == 4 { 2.0 } else { 0.0 }
-        });
+        let x = generic_derivatives(|t| (0.7 * t + 0.3).sin());
         let d = unpack(&x);
         assert_near!(nested_dual_s_density(&d), s_density(&d), ROUND_OFF);
         let (value, grad, hess) = hessian(
@@ -934,10 +963,7 @@ mod tests {
 
     #[test]
     fn q_forward_over_reverse_matches_num_dual() {
-        let x: [f64; VARS] = std::array::from_fn(|i| {
-            let t = i as f64;
-            (1.3 * t + 0.1).cos() + if i == 0 || i == 4 { 2.0 } else { 0.0 }
-        });
+        let x = generic_derivatives(|t| (1.3 * t + 0.1).cos());
         let (value, grad, hess) = hessian(
             |y| num_dual_q_density(&unpack(y.as_slice())),
             &SVector::<f64, VARS>::from(x),
@@ -979,10 +1005,7 @@ mod tests {
 
     #[test]
     fn residuals_square_to_the_densities() {
-        let x: [f64; VARS] = std::array::from_fn(|i| {
-            let t = i as f64;
-            (0.7 * t + 0.3).sin() + if i == 0 || i == 4 { 2.0 } else { 0.0 }
-        });
+        let x = generic_derivatives(|t| (0.7 * t + 0.3).sin());
         let d = unpack(&x);
         let (s, q) = densities(&d);
         let r = s_residual(&d);
@@ -1036,10 +1059,7 @@ mod tests {
         gauss_newton_matrix(&x, 0.0, 1.0, &mut gauss_newton);
         assert!(relative_difference(&gauss_newton, &exact) < 1e-12);
         // Away from such points the two differ.
-        let x: [f64; VARS] = std::array::from_fn(|i| {
-            let t = i as f64;
-            (1.3 * t + 0.1).cos() + if i == 0 || i == 4 { 2.0 } else { 0.0 }
-        });
+        let x = generic_derivatives(|t| (1.3 * t + 0.1).cos());
         point_hessian(&x, 1.0, 1.0, &mut exact, None);
         gauss_newton_matrix(&x, 1.0, 1.0, &mut gauss_newton);
         assert!(relative_difference(&gauss_newton, &exact) > 1e-3);

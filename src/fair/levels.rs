@@ -4,11 +4,12 @@
 //!
 //! Why: from a raw mesh most of the Hessians and factorizations go into the
 //! Levenberg–Marquardt phase far from the minimum, and that phase grows with the mesh
-//! (14399-vertex junction with the paper's steps: 29 Hessians, 98.7 s from the raw mesh;
-//! 9 Hessians at that level, 35.8 s for the whole cascade from 1007 vertices, same minimum.
-//! With the default steps, halved Newton steps and the Gauss–Newton trajectory, the raw
-//! start there takes 8 Hessians and 31.2 s and the cascade 30.9 s; at 6237 five-tube
-//! vertices 18.0 s raw, 14.2 s coarse-to-fine). The refined optimum of the coarser level
+//! (14399-vertex junction with the paper's steps and Cᵢ = 1, earlier sessions: 29
+//! Hessians, 98.7 s from the raw mesh; 9 Hessians at that level, 35.8 s for the whole
+//! cascade from 1007 vertices, same minimum. With the defaults, measured in the last
+//! bench: raw start 7 Hessians, 24.3 s, cascade 5 Hessians at that level, 20.2 s in all;
+//! 23997 five-tube vertices 15 Hessians, 105.3 s raw, 11 at that level, 83.3 s
+//! coarse-to-fine). The refined optimum of the coarser level
 //! already has the shape; the finer level only adds detail, which Newton's method resolves
 //! in a few steps.
 //!

@@ -65,7 +65,8 @@ pub struct NewtonOptions {
     /// many halvings of it before the Levenberg–Marquardt search; 0: straight to the
     /// search, as the paper. Beyond the paper; the default 4: far from the minimum the
     /// Newton direction is often right but too long (6237-vertex junction from the raw
-    /// start: 12 Hessians and 37 factorizations instead of 18 and 68).
+    /// start, Cᵢ = 1, an earlier session: 12 Hessians and 37 factorizations instead of 18
+    /// and 68).
     pub newton_halvings: usize,
 }
 
@@ -79,8 +80,8 @@ pub enum LmMatrix {
     /// positive semidefinite, so the trajectory needs no ν to overcome negative
     /// curvature, and it leaves out the second-derivative terms that make the exact
     /// model wrong far from the minimum. Beyond the paper; the default: at 14399 vertices
-    /// from the raw start 11 exact Hessians instead of 29 (without halved Newton steps),
-    /// same minimum.
+    /// from the raw start 11 exact Hessians instead of 29 (without halved Newton steps,
+    /// Cᵢ = 1, an earlier session), same minimum.
     GaussNewton,
 }
 
@@ -481,8 +482,8 @@ pub fn newton_observed<R: Representation>(
         // Levenberg–Marquardt trajectory.
         if step.is_none() {
             // After a Levenberg–Marquardt step the next one is likely too: the Hessian's
-            // Gauss–Newton part comes from the same pass (6237 vertices, run totals:
-            // ≈ 0.76 s a pass against ≈ 0.65 s for the exact Hessian alone).
+            // Gauss–Newton part comes from the same pass (about 1.2× the exact Hessian
+            // alone, see `HessianKind::Both`).
             let kind = if options.lm_matrix == LmMatrix::GaussNewton
                 && run.report.iterations.last().map(|it| it.step)
                     == Some(StepKind::LevenbergMarquardt)
