@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Runs every test suite of surfkit (README's test command calls this through scripts/setup.sh):
+# the Rust workspace (unit, integration and the C++ examples built against an install), then
+# any further suites a later part of the project adds below.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cargo test --release --workspace
