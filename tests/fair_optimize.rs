@@ -217,3 +217,32 @@ fn check(mesh: &surfkit::mesh::PolygonMesh, representation: RepresentationOption
         topo.euler_characteristic()
     );
 }
+
+#[test]
+fn fair_optimize_cancelled_by_the_observer_stops_where_an_iteration_limit_would() {
+    // A caller's cancel (the C and Python doors' callbacks) after the second iteration
+    // returns the same iterate, bit for bit, as a run limited to two iterations.
+    let mesh = tubes(3, 4, 3).unwrap();
+    let options = FairOptions {
+        max_refinements: 0,
+        ..FairOptions::default()
+    };
+    let mut seen = 0;
+    let (cancelled, report) = surfkit::fair::optimize_observed(&mesh, &options, &mut |_, _| {
+        seen += 1;
+        if seen == 2 {
+            std::ops::ControlFlow::Break(())
+        } else {
+            std::ops::ControlFlow::Continue(())
+        }
+    })
+    .unwrap();
+    assert!(report.newton.cancelled && !report.newton.converged);
+    assert_eq!(report.newton.iterations.len(), 2);
+    let mut limited_options = options.clone();
+    limited_options.newton.max_iterations = 2;
+    let (limited, limited_report) = optimize(&mesh, &limited_options).unwrap();
+    assert!(!limited_report.newton.cancelled);
+    assert_eq!(limited_report.newton.iterations.len(), 2);
+    assert_eq!(cancelled.positions, limited.positions);
+}

@@ -271,7 +271,8 @@ pub(super) fn optimize_with_progress(
     let mut progress = Progress::new(show_progress, options.newton.relative_gradient);
     let start = std::time::Instant::now();
     let result = optimize_levels_observed(mesh, levels, options, &mut |level, it, g0| {
-        progress.observe(level, it, g0)
+        progress.observe(level, it, g0);
+        std::ops::ControlFlow::Continue(())
     });
     let seconds = start.elapsed().as_secs_f64();
     progress.finish();

@@ -26,6 +26,7 @@
 //! problem (third derivatives squared: an order-6 Euler–Lagrange operator) probably needs
 //! a coarse level (the paper's planned multilevel method) to pay; not tried.
 
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 use crate::error::{Error, Result};
@@ -155,6 +156,8 @@ enum Final {
     Converged,
     IterationLimit,
     BackToBlocks,
+    /// The observer asked to stop.
+    Cancelled,
 }
 
 impl<R: Representation> Run<'_, '_, R> {
@@ -219,7 +222,7 @@ impl<R: Representation> Run<'_, '_, R> {
         positions: &mut Vec<[f64; 3]>,
         terms: &mut Terms,
         g: &mut Vec<f64>,
-        observe: &mut dyn FnMut(&Iteration),
+        observe: &mut dyn FnMut(&Iteration) -> ControlFlow<()>,
     ) -> Final {
         let free = self.global.free_index().to_vec();
         let g0 = self.report.initial_gradient_norm;
@@ -228,6 +231,9 @@ impl<R: Representation> Run<'_, '_, R> {
             let gnorm = norm(g);
             if gnorm <= self.target {
                 return Final::Converged;
+            }
+            if self.report.cancelled {
+                return Final::Cancelled;
             }
             if self.report.iterations.len() >= self.newton.max_iterations {
                 return Final::IterationLimit;
@@ -327,7 +333,7 @@ impl<R: Representation> Run<'_, '_, R> {
                             nu: (nu > 0.0).then_some(nu),
                         };
                         self.report.iterations.push(it);
-                        observe(&it);
+                        let flow = observe(&it);
                         self.blocks_report.log.push(BlockPhase::Global {
                             terms: *terms,
                             gradient_norm: gt_norm,
@@ -337,6 +343,7 @@ impl<R: Representation> Run<'_, '_, R> {
                             step_length: length,
                             nu,
                         });
+                        self.report.cancelled = flow.is_break();
                         break;
                     }
                     if reused {
@@ -367,7 +374,7 @@ impl<R: Representation> Run<'_, '_, R> {
 ///
 /// `observe` is called after each global step and after each sweep (with the whole
 /// problem's F and ‖g‖; a sweep is reported as a [`StepKind::Newton`] line, for progress
-/// display only). The returned [`NewtonReport`] lists the global steps; Hessian counts
+/// display only); `ControlFlow::Break` stops the run there ([`NewtonReport::cancelled`]). The returned [`NewtonReport`] lists the global steps; Hessian counts
 /// of both phases are in the [`BlockReport`].
 ///
 /// # Errors
@@ -382,7 +389,7 @@ pub fn block_newton<R: Representation>(
     positions: &mut Vec<[f64; 3]>,
     newton_options: &NewtonOptions,
     options: &BlockOptions,
-    observe: &mut dyn FnMut(&Iteration),
+    observe: &mut dyn FnMut(&Iteration) -> ControlFlow<()>,
 ) -> Result<(NewtonReport, BlockReport)> {
     if !(options.cg_tolerance > 0.0 && options.cg_tolerance < 1.0) {
         return Err(Error::InvalidInput(format!(
@@ -450,7 +457,7 @@ pub fn block_newton<R: Representation>(
                 effective_blocks: effective,
                 skipped_blocks: skipped,
             });
-            observe(&Iteration {
+            let flow = observe(&Iteration {
                 terms,
                 gradient_norm,
                 step: StepKind::Newton,
@@ -458,6 +465,10 @@ pub fn block_newton<R: Representation>(
             });
             if gradient_norm <= run.target {
                 run.report.converged = true;
+                break 'rounds;
+            }
+            if flow.is_break() {
+                run.report.cancelled = true;
                 break 'rounds;
             }
             if effective == run.blocks.len() {
@@ -469,7 +480,7 @@ pub fn block_newton<R: Representation>(
                 run.report.converged = true;
                 break;
             }
-            Final::IterationLimit => break,
+            Final::IterationLimit | Final::Cancelled => break,
             Final::BackToBlocks => {}
         }
     }

@@ -17,6 +17,7 @@
 //! rings along the boundary) take the raw refinement's coordinates bit for bit; only the
 //! free vertices start from the refined optimum.
 
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 use crate::error::{Error, Result};
@@ -50,7 +51,9 @@ pub struct CoarseToFine {
 }
 
 /// [`optimize_levels`] with a callback after each Newton iteration: level, iteration and
-/// the initial gradient norm of its stage (for progress display).
+/// the initial gradient norm of its stage (for progress display). `ControlFlow::Break`
+/// stops the run after that iteration: the levels done so far are returned, the last one
+/// with `newton.cancelled` set, and `raw`/`optimized` are that level's meshes.
 ///
 /// # Errors
 /// As [`optimize_observed`]; [`Error::InvalidInput`] for user-given fixed vertices with
@@ -59,7 +62,7 @@ pub fn optimize_levels_observed(
     mesh: &PolygonMesh,
     levels: u32,
     options: &FairOptions,
-    observe: &mut dyn FnMut(u32, &Iteration, f64),
+    observe: &mut dyn FnMut(u32, &Iteration, f64) -> ControlFlow<()>,
 ) -> Result<CoarseToFine> {
     if levels > 0 && !options.fixed.is_empty() {
         return Err(Error::InvalidInput(
@@ -84,6 +87,9 @@ pub fn optimize_levels_observed(
         report,
     }];
     for level in 1..=levels {
+        if reports.last().is_some_and(|r| r.report.newton.cancelled) {
+            break;
+        }
         let clock = Instant::now();
         raw = refine_surface(&raw, 1)?;
         let start = refined_start(&raw, &refine_surface(&optimized, 1)?, options)?;
@@ -115,7 +121,9 @@ pub fn optimize_levels(
     levels: u32,
     options: &FairOptions,
 ) -> Result<CoarseToFine> {
-    optimize_levels_observed(mesh, levels, options, &mut |_, _, _| {})
+    optimize_levels_observed(mesh, levels, options, &mut |_, _, _| {
+        ControlFlow::Continue(())
+    })
 }
 
 /// The start of a finer level: the raw refinement's faces and fixed vertices, the free

@@ -66,6 +66,8 @@ pub use surface_refine::{drop_boundary_ring, refine_surface};
 pub use topology::{condition_violation, MeshTopology};
 pub use tubes::{tubes, MAX_TUBES};
 
+use std::ops::ControlFlow;
+
 use crate::error::{Error, Result};
 use crate::linalg::norm;
 use crate::mesh::PolygonMesh;
@@ -182,19 +184,21 @@ fn prepare_with_fixed(mesh: &PolygonMesh, options: &FairOptions) -> Result<(Poly
 /// [`Error::Solver`] when F is not finite at the start; errors of OpenSubdiv. A run that
 /// stops early says why in [`NewtonReport`] (`stalled`, `stuck`).
 pub fn optimize(mesh: &PolygonMesh, options: &FairOptions) -> Result<(PolygonMesh, FairReport)> {
-    optimize_observed(mesh, options, &mut |_, _| {})
+    optimize_observed(mesh, options, &mut |_, _| ControlFlow::Continue(()))
 }
 
 /// [`optimize`], calling `observe` after each Newton iteration (warm-start stage
 /// included) with the iteration and the initial gradient norm of its stage, for progress
-/// display.
+/// display. When `observe` returns `ControlFlow::Break`, the run stops there and returns
+/// the positions reached, with `newton.cancelled` set (a cancelled warm start skips the
+/// main stage).
 ///
 /// # Errors
 /// As [`optimize`].
 pub fn optimize_observed(
     mesh: &PolygonMesh,
     options: &FairOptions,
-    observe: &mut dyn FnMut(&Iteration, f64),
+    observe: &mut dyn FnMut(&Iteration, f64) -> ControlFlow<()>,
 ) -> Result<(PolygonMesh, FairReport)> {
     let (prepared, refinements) = prepare_with_fixed(mesh, options)?;
     let topo = MeshTopology::new(&prepared)?;
@@ -237,8 +241,17 @@ pub fn optimize_observed(
         }
         _ => None,
     };
-    let g0 = norm(&functional.gradient(&positions).1);
+    let (start_terms, start_gradient) = functional.gradient(&positions);
+    let g0 = norm(&start_gradient);
     let (report, blocks) = match &options.blocks {
+        _ if warm_start.as_ref().is_some_and(|w| w.cancelled) => (
+            NewtonReport {
+                converged: false,
+                cancelled: true,
+                ..NewtonReport::new(start_terms, g0)
+            },
+            None,
+        ),
         None => (
             newton_observed(&functional, &mut positions, &options.newton, &mut |it| {
                 observe(it, g0)

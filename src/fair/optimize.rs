@@ -10,6 +10,7 @@
 //! Gauss–Newton part instead of the exact Hessian ([`LmMatrix`]): where the exact Hessian
 //! of these junctions is strongly indefinite, the steps ν must make up for it are short.
 
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 use crate::error::{Error, Result};
@@ -122,6 +123,10 @@ pub struct NewtonReport {
     /// √(EG − F²) vanishes between quadrature points, say). The positions reached are
     /// returned; `converged` is false.
     pub stuck: bool,
+    /// Stopped because the caller's observer asked for it (`ControlFlow::Break`): a
+    /// progress dialog's cancel button, a C or Python callback. The positions reached are
+    /// returned; `converged` says whether they happen to meet the tolerance.
+    pub cancelled: bool,
 }
 
 impl NewtonReport {
@@ -139,6 +144,7 @@ impl NewtonReport {
             converged: initial_gradient_norm == 0.0,
             stalled: false,
             stuck: false,
+            cancelled: false,
         }
     }
 
@@ -146,6 +152,8 @@ impl NewtonReport {
     pub fn status_note(&self) -> &'static str {
         if self.converged {
             ""
+        } else if self.cancelled {
+            " (cancelled by the caller)"
         } else if self.stuck {
             " (stopped: no step decreases F, the surface may be nearly folded)"
         } else if self.stalled {
@@ -203,7 +211,9 @@ pub fn newton<R: Representation>(
     positions: &mut Vec<[f64; 3]>,
     options: &NewtonOptions,
 ) -> Result<NewtonReport> {
-    newton_observed(functional, positions, options, &mut |_| {})
+    newton_observed(functional, positions, options, &mut |_| {
+        ControlFlow::Continue(())
+    })
 }
 
 /// A point reached by a trial step.
@@ -429,7 +439,8 @@ pub(crate) fn diagonal_scale(h: &BlockHessian) -> f64 {
     (sum / count.max(1) as f64).max(f64::MIN_POSITIVE)
 }
 
-/// [`newton`], calling `observe` after each iteration (for progress display).
+/// [`newton`], calling `observe` after each iteration (for progress display); when it
+/// returns `ControlFlow::Break`, the run stops there with [`NewtonReport::cancelled`].
 ///
 /// # Errors
 /// As [`newton`].
@@ -437,7 +448,7 @@ pub fn newton_observed<R: Representation>(
     functional: &Functional<'_, R>,
     positions: &mut Vec<[f64; 3]>,
     options: &NewtonOptions,
-    observe: &mut dyn FnMut(&Iteration),
+    observe: &mut dyn FnMut(&Iteration) -> ControlFlow<()>,
 ) -> Result<NewtonReport> {
     let (mut terms, mut g) = {
         let (terms, g) = functional.gradient(positions);
@@ -551,7 +562,10 @@ pub fn newton_observed<R: Representation>(
             step: kind,
             nu,
         });
-        observe(run.report.iterations.last().expect("just pushed"));
+        if observe(run.report.iterations.last().expect("just pushed")).is_break() {
+            run.report.cancelled = true;
+            break;
+        }
         if options.stall_steps > 0 && stalled_steps >= options.stall_steps {
             run.report.stalled = norm(&g) > options.relative_gradient * g0;
             break;
