@@ -1,0 +1,186 @@
+//! `SurfkitMesh`: a polygon soup (positions f64, faces as offsets + indices u32) made from
+//! the caller's flat arrays or read from OBJ/PLY/OFF, and its read-only views.
+
+use std::ffi::{c_char, c_int};
+use std::path::Path;
+
+use surfkit::mesh::io::{read_with, write, ReadOptions, WriteOptions};
+use surfkit::mesh::PolygonMesh;
+
+use crate::pointers::{give, output, reference, slice, take, text};
+use crate::status::{guard, Failure};
+
+/// An opaque polygon mesh owned by the caller (free it with [`surfkit_mesh_free`]).
+pub struct SurfkitMesh {
+    pub(crate) mesh: PolygonMesh,
+}
+
+impl SurfkitMesh {
+    /// A mesh from flat arrays, checked: offsets start at 0, never decrease and end at the
+    /// index count; every index names a vertex; every coordinate is finite.
+    pub(crate) fn from_arrays(
+        positions: &[f64],
+        offsets: &[u32],
+        indices: &[u32],
+    ) -> Result<PolygonMesh, Failure> {
+        let mesh = PolygonMesh {
+            positions: positions
+                .chunks_exact(3)
+                .map(|p| [p[0], p[1], p[2]])
+                .collect(),
+            face_offsets: offsets.to_vec(),
+            face_indices: indices.to_vec(),
+            ..Default::default()
+        };
+        mesh.validate()?;
+        Ok(mesh)
+    }
+}
+
+/// Makes a mesh from `vertex_count` positions (x, y, z each), `face_count + 1` face offsets
+/// (face f is `face_indices[offsets[f] .. offsets[f + 1]]`, offsets[0] = 0) and
+/// `offsets[face_count]` vertex indices. Polygons of any arity; nothing is re-indexed.
+///
+/// Errors: null arrays, decreasing offsets, an index ≥ `vertex_count` (the message names
+/// the face), a non-finite coordinate (names the vertex).
+///
+/// # Safety
+/// The arrays must hold the announced numbers of elements; `out` must be writable.
+#[no_mangle]
+pub unsafe extern "C" fn surfkit_mesh_new(
+    positions: *const f64,
+    vertex_count: usize,
+    face_offsets: *const u32,
+    face_count: usize,
+    face_indices: *const u32,
+    out: *mut *mut SurfkitMesh,
+) -> c_int {
+    guard(|| {
+        let out = output(out, "out")?;
+        let coordinates = vertex_count
+            .checked_mul(3)
+            .ok_or_else(|| Failure::invalid("vertex_count overflows"))?;
+        let positions = slice(positions, coordinates, "positions")?;
+        let offsets_len = face_count
+            .checked_add(1)
+            .ok_or_else(|| Failure::invalid("face_count overflows"))?;
+        let offsets = slice(face_offsets, offsets_len, "face_offsets")?;
+        let index_count = *offsets.last().expect("face_count + 1 ≥ 1") as usize;
+        let indices = slice(face_indices, index_count, "face_indices")?;
+        give(
+            out,
+            SurfkitMesh {
+                mesh: SurfkitMesh::from_arrays(positions, offsets, indices)?,
+            },
+        );
+        Ok(())
+    })
+}
+
+/// Reads an OBJ, PLY (ASCII or binary) or OFF file, polygons kept (degenerate facets too:
+/// the EAT counts them).
+///
+/// # Safety
+/// `path` must be a NUL-terminated UTF-8 string; `out` writable.
+#[no_mangle]
+pub unsafe extern "C" fn surfkit_mesh_read(
+    path: *const c_char,
+    out: *mut *mut SurfkitMesh,
+) -> c_int {
+    guard(|| {
+        let out = output(out, "out")?;
+        let path = text(path, "path")?;
+        let mesh = read_with(
+            Path::new(path),
+            &ReadOptions {
+                keep_degenerate: true,
+            },
+        )?;
+        give(out, SurfkitMesh { mesh });
+        Ok(())
+    })
+}
+
+/// Writes the mesh as OBJ, PLY (binary little endian) or OFF, by the path's extension,
+/// atomically (a temporary file renamed over the target).
+///
+/// # Safety
+/// `mesh` must be a live handle; `path` a NUL-terminated UTF-8 string.
+#[no_mangle]
+pub unsafe extern "C" fn surfkit_mesh_write(
+    mesh: *const SurfkitMesh,
+    path: *const c_char,
+) -> c_int {
+    guard(|| {
+        let mesh = reference(mesh, "mesh")?;
+        let path = text(path, "path")?;
+        write(Path::new(path), &mesh.mesh, &WriteOptions::default())?;
+        Ok(())
+    })
+}
+
+/// The numbers of vertices, faces and face indices (any output may be null).
+///
+/// # Safety
+/// `mesh` must be a live handle; non-null outputs writable.
+#[no_mangle]
+pub unsafe extern "C" fn surfkit_mesh_counts(
+    mesh: *const SurfkitMesh,
+    vertex_count: *mut usize,
+    face_count: *mut usize,
+    index_count: *mut usize,
+) -> c_int {
+    guard(|| {
+        let m = &reference(mesh, "mesh")?.mesh;
+        for (slot, value) in [
+            (vertex_count, m.vertex_count()),
+            (face_count, m.face_count()),
+            (index_count, m.face_indices.len()),
+        ] {
+            if let Some(slot) = slot.as_mut() {
+                *slot = value;
+            }
+        }
+        Ok(())
+    })
+}
+
+/// Borrowed views of the mesh's arrays: `3 · vertex_count` positions, `face_count + 1`
+/// offsets and `index_count` indices (any output may be null). They stay valid until the
+/// mesh is freed.
+///
+/// # Safety
+/// `mesh` must be a live handle; non-null outputs writable.
+#[no_mangle]
+pub unsafe extern "C" fn surfkit_mesh_arrays(
+    mesh: *const SurfkitMesh,
+    positions: *mut *const f64,
+    face_offsets: *mut *const u32,
+    face_indices: *mut *const u32,
+) -> c_int {
+    guard(|| {
+        let m = &reference(mesh, "mesh")?.mesh;
+        if let Some(slot) = positions.as_mut() {
+            *slot = m.positions_flat().as_ptr();
+        }
+        if let Some(slot) = face_offsets.as_mut() {
+            *slot = m.face_offsets.as_ptr();
+        }
+        if let Some(slot) = face_indices.as_mut() {
+            *slot = m.face_indices.as_ptr();
+        }
+        Ok(())
+    })
+}
+
+/// Frees a mesh (null is ignored).
+///
+/// # Safety
+/// `mesh` must be null or a handle not freed before.
+#[no_mangle]
+pub unsafe extern "C" fn surfkit_mesh_free(mesh: *mut SurfkitMesh) {
+    let _ = guard(|| {
+        take(mesh);
+        Ok(())
+    });
+}
