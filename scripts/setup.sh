@@ -10,7 +10,7 @@ set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 cd "$(dirname "$0")/.."
 
-packages=(build-essential pkg-config libclang-dev libopenmesh-dev libosd-dev libcgal-dev
+packages=(build-essential pkg-config cmake libclang-dev libopenmesh-dev libosd-dev libcgal-dev
           python3 python3-venv python3-pip ca-certificates curl)
 missing=()
 for p in "${packages[@]}"; do

@@ -1,6 +1,7 @@
 // Implementation of the OpenMesh bridge (see bridge.h).
 #include "surfkit/cpp/openmesh/bridge.h"
 
+#include <iostream>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
@@ -26,34 +27,68 @@ constexpr uint8_t DEGENERATE = 4;
 constexpr uint8_t OTHER = 5;
 
 // OpenMesh writes its complaints to the global omerr() stream, which goes to std::cerr.
-// While surfkit calls OpenMesh, omerr() is redirected into a string (and std::cerr is
-// reconnected afterwards if it was connected), under a lock since the stream is global.
+// omerr() is redirected once per process into a router that appends to the calling
+// thread's capture string while a CaptureOmerr is alive there, and forwards to std::cerr
+// otherwise. (Connecting and disconnecting a target per call leaks: OpenMesh's
+// mostream::disconnect never deletes the target it made in connect.) Calls into OpenMesh
+// are serialized by a lock, since omerr()'s line buffer is global.
 std::mutex omerr_lock;
+thread_local std::string* omerr_capture = nullptr;
+
+class OmerrRouter : public std::streambuf {
+ protected:
+  int_type overflow(int_type c) override {
+    if (c != traits_type::eof()) {
+      char ch = traits_type::to_char_type(c);
+      xsputn(&ch, 1);
+    }
+    return traits_type::not_eof(c);
+  }
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    if (omerr_capture != nullptr)
+      omerr_capture->append(s, static_cast<size_t>(n));
+    else
+      std::cerr.write(s, n);
+    return n;
+  }
+};
+
+void install_omerr_router() {
+  static const bool installed = [] {
+    static OmerrRouter router;
+    static std::ostream routed(&router);
+    omerr().flush();
+    omerr().disconnect(std::cerr);
+    omerr().connect(routed);
+    return true;
+  }();
+  (void)installed;
+}
 
 class CaptureOmerr {
  public:
   CaptureOmerr() : guard_(omerr_lock) {
+    install_omerr_router();
     omerr().flush();
-    had_cerr_ = omerr().disconnect(std::cerr);
-    omerr().connect(captured_);
+    previous_ = omerr_capture;
+    omerr_capture = &captured_;
   }
   ~CaptureOmerr() {
     omerr().flush();
-    omerr().disconnect(captured_);
-    if (had_cerr_) omerr().connect(std::cerr);
+    omerr_capture = previous_;
   }
   /// What OpenMesh said since the last call.
   std::string take() {
     omerr().flush();
-    std::string s = captured_.str();
-    captured_.str("");
+    std::string s;
+    s.swap(captured_);
     return s;
   }
 
  private:
   std::lock_guard<std::mutex> guard_;
-  std::ostringstream captured_;
-  bool had_cerr_ = false;
+  std::string captured_;
+  std::string* previous_ = nullptr;
 };
 
 uint8_t classify(const std::string& message) {

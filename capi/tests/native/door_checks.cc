@@ -1,0 +1,287 @@
+// Checks of the C and C++ doors that need a native program (run by capi/tests/cpp_door.rs,
+// also under AddressSanitizer + LeakSanitizer): bad input gets a status and a message
+// naming the element, never an abort; a throwing progress callback is rethrown, a
+// cancelling one stops the run; 1000 create/free cycles of every handle leak nothing.
+// Prints "ok: N checks" and exits 0, or names the failed check and exits 1.
+#include <surfkit/openmesh.hh>
+
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <vector>
+
+using Mesh = OpenMesh::PolyMesh_ArrayKernelT<>;
+
+static int checks = 0;
+
+#define EXPECT(condition)                                                             \
+  do {                                                                                \
+    ++checks;                                                                         \
+    if (!(condition)) {                                                               \
+      std::cerr << "check failed at line " << __LINE__ << ": " #condition << "\n";     \
+      std::exit(1);                                                                   \
+    }                                                                                 \
+  } while (0)
+
+static bool says(const char* part) { return std::strstr(surfkit_last_error(), part) != nullptr; }
+
+/// An (n+1) × (n+1) grid of quads in the plane z = bump · x(1 − x) y(1 − y).
+static Mesh grid(int n, float bump) {
+  Mesh m;
+  std::vector<Mesh::VertexHandle> v;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      float x = float(i) / n, y = float(j) / n;
+      v.push_back(m.add_vertex(Mesh::Point(x, y, bump * x * (1 - x) * y * (1 - y))));
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      m.add_face({v[j * (n + 1) + i], v[j * (n + 1) + i + 1], v[(j + 1) * (n + 1) + i + 1], v[(j + 1) * (n + 1) + i]});
+  return m;
+}
+
+/// A cube of 6 quads (closed).
+static void cube(std::vector<double>& p, std::vector<uint32_t>& o, std::vector<uint32_t>& idx) {
+  p = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+  idx = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
+  o = {0, 4, 8, 12, 16, 20, 24};
+}
+
+static void bad_input() {
+  SurfkitMesh* m = nullptr;
+  std::vector<double> p;
+  std::vector<uint32_t> o, idx;
+  cube(p, o, idx);
+  EXPECT(surfkit_mesh_new(nullptr, 8, o.data(), 6, idx.data(), &m) == SURFKIT_INVALID_INPUT && says("positions"));
+  EXPECT(m == nullptr);
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), nullptr) == SURFKIT_INVALID_INPUT && says("out"));
+  std::vector<uint32_t> wrong = idx;
+  wrong[5] = 99;
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, wrong.data(), &m) == SURFKIT_INVALID_INPUT &&
+         says("face 1 refers to vertex 99"));
+  std::vector<double> nan = p;
+  nan[7] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT(surfkit_mesh_new(nan.data(), 8, o.data(), 6, idx.data(), &m) == SURFKIT_INVALID_INPUT &&
+         says("vertex 2 has a non-finite coordinate"));
+  std::vector<uint32_t> decreasing = {0, 4, 2, 12, 16, 20, 24};
+  EXPECT(surfkit_mesh_new(p.data(), 8, decreasing.data(), 6, idx.data(), &m) == SURFKIT_INVALID_INPUT &&
+         says("decrease at face 1"));
+  EXPECT(surfkit_mesh_read("/nonexistent/surfkit.obj", &m) == SURFKIT_IO && says("/nonexistent/surfkit.obj"));
+  SurfkitEatReport* r = nullptr;
+  EXPECT(surfkit_eat_scan(nullptr, nullptr, &r) == SURFKIT_INVALID_INPUT && says("mesh is a null pointer"));
+
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), &m) == SURFKIT_OK);
+  EXPECT(std::strlen(surfkit_last_error()) == 0);
+  EXPECT(surfkit_eat_scan(m, nullptr, &r) == SURFKIT_OK);
+  SurfkitFlaw f;
+  EXPECT(surfkit_eat_report_flaw(r, 0, &f) == SURFKIT_INVALID_INPUT && says("flaw 0 out of range"));
+  surfkit_eat_report_free(r);
+
+  // A closed mesh with nothing fixed: the paper's c is undefined.
+  SurfkitMesh* faired = nullptr;
+  EXPECT(surfkit_fair(m, nullptr, &faired, nullptr) != SURFKIT_OK && std::strlen(surfkit_last_error()) > 0);
+  EXPECT(faired == nullptr);
+
+  SurfkitLimit* limit = nullptr;
+  EXPECT(surfkit_limit_new(m, nullptr, 4, &limit) == SURFKIT_OK);
+  uint32_t ptex = 6;
+  double u = 0.5, v = 0.5, d[30];
+  EXPECT(surfkit_limit_evaluate(limit, 1, &ptex, &u, &v, d) == SURFKIT_INVALID_INPUT && says("ptex face 6 out of range"));
+  ptex = 0;
+  u = 2.0;
+  EXPECT(surfkit_limit_evaluate(limit, 1, &ptex, &u, &v, d) == SURFKIT_INVALID_INPUT && says("outside [0, 1]"));
+  EXPECT(surfkit_limit_new(m, nullptr, 11, &limit) == SURFKIT_INVALID_INPUT && says("max_isolation 11"));
+  surfkit_limit_free(limit);
+  surfkit_mesh_free(m);
+
+  SurfkitRegistry* reg = nullptr;
+  EXPECT(surfkit_registry_new(3, &reg) == SURFKIT_OK);
+  uint32_t tri[3] = {0, 1, 7};
+  EXPECT(surfkit_registry_add_facet(reg, tri, 3, 0, nullptr) == SURFKIT_INVALID_INPUT && says("vertex 7"));
+  surfkit_registry_free(reg);
+
+  double uv[2] = {0, 0}, xyz[3] = {0, 0, std::numeric_limits<double>::infinity()};
+  SurfkitSpline* s = nullptr;
+  EXPECT(surfkit_fit(uv, xyz, 1, nullptr, &s) == SURFKIT_INVALID_INPUT && says("data point 0"));
+
+  // The C++ layer throws surfkit::Error with the same message.
+  Mesh closed;
+  {
+    std::vector<Mesh::VertexHandle> h;
+    for (int k = 0; k < 8; ++k) h.push_back(closed.add_vertex(Mesh::Point(float(p[3 * k]), float(p[3 * k + 1]), float(p[3 * k + 2]))));
+    for (int k = 0; k < 6; ++k) closed.add_face({h[idx[4 * k]], h[idx[4 * k + 1]], h[idx[4 * k + 2]], h[idx[4 * k + 3]]});
+  }
+  bool thrown = false;
+  try {
+    surfkit::fair(closed);
+  } catch (const surfkit::Error& e) {
+    thrown = e.status() != SURFKIT_OK && std::string(e.what()).size() > 0;
+  }
+  EXPECT(thrown);
+
+  // A facet OpenMesh refuses (a third facet on one edge) is registered all the same.
+  Mesh fan;
+  surfkit::EatCompanion<Mesh> companion(fan);
+  std::vector<Mesh::VertexHandle> v5;
+  for (int k = 0; k < 5; ++k) v5.push_back(fan.add_vertex(Mesh::Point(float(k), float(k % 2), 0)));
+  EXPECT(companion.add_face({v5[0], v5[1], v5[2]}).is_valid());
+  EXPECT(companion.add_face({v5[1], v5[0], v5[3]}).is_valid());
+  EXPECT(!companion.add_face({v5[0], v5[1], v5[4]}).is_valid());
+  EXPECT(companion.refusals().size() == 1 && companion.refusals()[0].facet == 2);
+  EXPECT(companion.refusals()[0].message.find("complex edge") != std::string::npos);
+  auto c = companion.checkpoint(1);
+  EXPECT(c.facets == 3 && c.edges == 7 && c.vertices == 5 && c.euler_characteristic == 1 && c.verified);
+}
+
+static void callbacks() {
+  // A throwing progress callback: the exception reaches the caller, nothing aborts.
+  Mesh m = grid(6, 1.0f);
+  surfkit::FairOptions options;
+  options.boundary_rings = 1;
+  options.progress = [](const surfkit::FairIteration&) -> bool { throw std::runtime_error("from the callback"); };
+  bool rethrown = false;
+  try {
+    surfkit::fair(m, options);
+  } catch (const std::runtime_error& e) {
+    rethrown = std::string(e.what()) == "from the callback";
+  }
+  EXPECT(rethrown);
+  // A cancelling callback stops after the iteration it was told about.
+  size_t seen = 0;
+  options.progress = [&](const surfkit::FairIteration& it) { seen = it.iteration; return it.iteration < 2; };
+  Mesh again = grid(6, 1.0f);
+  surfkit::FairReport q = surfkit::fair(again, options);
+  EXPECT(q.cancelled && !q.converged && q.iterations == 2 && seen == 2);
+}
+
+static void cycles() {
+  std::vector<double> p;
+  std::vector<uint32_t> o, idx;
+  cube(p, o, idx);
+  Mesh plate = grid(4, 1.0f);
+  std::vector<double> uv, xyz;
+  for (int j = 0; j < 10; ++j)
+    for (int i = 0; i < 10; ++i) {
+      double x = i / 9.0, y = j / 9.0;
+      uv.insert(uv.end(), {x, y});
+      xyz.insert(xyz.end(), {x, y, x * y});
+    }
+  SurfkitFitOptions fit;
+  surfkit_fit_options_default(&fit);
+  fit.cells_u = fit.cells_v = 2;
+  for (int k = 0; k < 1000; ++k) {
+    SurfkitMesh* m = nullptr;
+    EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), &m) == SURFKIT_OK);
+    SurfkitEatReport* r = nullptr;
+    EXPECT(surfkit_eat_scan(m, nullptr, &r) == SURFKIT_OK);
+    const char* json = nullptr;
+    EXPECT(surfkit_eat_report_json(r, &json) == SURFKIT_OK && json[0] == '{');
+    surfkit_eat_report_free(r);
+    SurfkitMesh* fine = nullptr;
+    EXPECT(surfkit_subdivide(m, 1, nullptr, &fine) == SURFKIT_OK);
+    surfkit_mesh_free(fine);
+    SurfkitLimit* limit = nullptr;
+    EXPECT(surfkit_limit_new(m, nullptr, 2, &limit) == SURFKIT_OK);
+    surfkit_limit_free(limit);
+    surfkit_mesh_free(m);
+    SurfkitRegistry* reg = nullptr;
+    EXPECT(surfkit_registry_new(8, &reg) == SURFKIT_OK);
+    EXPECT(surfkit_registry_add_facet(reg, idx.data(), 4, 0, nullptr) == SURFKIT_OK);
+    SurfkitCheckpoint c;
+    EXPECT(surfkit_registry_checkpoint(reg, 2, &c) == SURFKIT_OK && !c.verified);
+    surfkit_registry_free(reg);
+    SurfkitSpline* s = nullptr;
+    EXPECT(surfkit_fit(uv.data(), xyz.data(), 100, &fit, &s) == SURFKIT_OK);
+    surfkit_spline_free(s);
+    // An error path allocates a message too.
+    EXPECT(surfkit_mesh_new(nullptr, 8, o.data(), 6, idx.data(), &m) == SURFKIT_INVALID_INPUT);
+  }
+  // Fairing handles: a small plate, one iteration each.
+  surfkit::detail::Flattened<Mesh> flat(plate);
+  auto soup = flat.make();
+  SurfkitFairOptions options;
+  surfkit_fair_options_default(&options);
+  options.boundary_rings = 1;
+  options.max_iterations = 1;
+  for (int k = 0; k < 1000; ++k) {
+    SurfkitMesh* out = nullptr;
+    SurfkitFairReport* report = nullptr;
+    EXPECT(surfkit_fair(soup.get(), &options, &out, &report) == SURFKIT_OK);
+    SurfkitFairSummary summary;
+    EXPECT(surfkit_fair_report_summary(report, &summary) == SURFKIT_OK && summary.iterations == 1);
+    surfkit_fair_report_free(report);
+    surfkit_mesh_free(out);
+  }
+}
+
+/// Float meshes: surfkit computes in double and rounds once into the float mesh.
+static void float_traits() {
+  struct DoubleTraits : public OpenMesh::DefaultTraits {
+    using Point = OpenMesh::Vec3d;
+    using Normal = OpenMesh::Vec3d;
+  };
+  using MeshD = OpenMesh::PolyMesh_ArrayKernelT<DoubleTraits>;
+  Mesh f = grid(5, 2.0f);
+  MeshD d;
+  for (auto vh : f.vertices()) d.add_vertex(OpenMesh::Vec3d(f.point(vh)[0], f.point(vh)[1], f.point(vh)[2]));
+  for (auto fh : f.faces()) {
+    std::vector<MeshD::VertexHandle> c;
+    for (auto vh : f.fv_range(fh)) c.push_back(d.vertex_handle(vh.idx()));
+    d.add_face(c);
+  }
+  Mesh fine_f = surfkit::subdivide(f, 2);
+  MeshD fine_d = surfkit::subdivide(d, 2);
+  EXPECT(fine_f.n_vertices() == fine_d.n_vertices() && fine_f.n_faces() == fine_d.n_faces());
+  for (auto vh : fine_d.vertices())
+    for (int k = 0; k < 3; ++k) {
+      double exact = fine_d.point(vh)[k];
+      EXPECT(static_cast<float>(exact) == fine_f.point(fine_f.vertex_handle(vh.idx()))[k]);
+    }
+}
+
+/// Deleted but not collected elements are skipped, and handles are the caller's.
+static void deleted_elements() {
+  Mesh m = grid(4, 0.5f);
+  m.request_face_status();
+  m.request_edge_status();
+  m.request_vertex_status();
+  Mesh collected = m;
+  auto hole = m.face_handle(5);
+  std::vector<int> rim_edges;
+  for (auto eh : m.fe_range(hole)) rim_edges.push_back(eh.idx());
+  std::sort(rim_edges.begin(), rim_edges.end());
+  m.delete_face(hole, false);
+  collected.delete_face(collected.face_handle(5), false);
+  collected.garbage_collection();
+  surfkit::EatReport a = surfkit::eat(m), b = surfkit::eat(collected);
+  EXPECT(a.vertices == b.vertices && a.edges == b.edges && a.faces == b.faces && a.faces == 15);
+  EXPECT(a.boundary_loops == 2 && b.boundary_loops == 2 && a.flaws.size() == b.flaws.size());
+  for (const auto& flaw : a.flaws)
+    for (auto fh : flaw.faces) EXPECT(!m.status(fh).deleted());
+  // The opening's rim is the deleted face's four edges, as handles of `m`.
+  bool rim = false;
+  for (const auto& flaw : a.flaws) {
+    std::vector<int> edges;
+    for (auto eh : flaw.edges) edges.push_back(eh.idx());
+    std::sort(edges.begin(), edges.end());
+    rim = rim || edges == rim_edges;
+  }
+  EXPECT(rim);
+}
+
+int main() {
+  EXPECT(surfkit_abi_version() == SURFKIT_ABI_VERSION);
+  EXPECT(std::strlen(surfkit_version()) > 0);
+  bad_input();
+  callbacks();
+  float_traits();
+  deleted_elements();
+  cycles();
+  std::cout << "ok: " << checks << " checks" << std::endl;
+  return 0;
+}
