@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets up a Debian 12 machine (as root) for surfkit, then runs the command given, if any:
-#   bash scripts/setup.sh cargo test --release
-# Installs, only when missing: a C++ compiler, libclang (for bindgen), OpenMesh
+#   bash scripts/setup.sh bash scripts/test.sh
+# Installs, only when missing: a C++ compiler, pkg-config and CMake (the C++ examples'
+# tests), libclang (for bindgen), OpenMesh
 # (libopenmesh-dev), OpenSubdiv (libosd-dev), CGAL headers (libcgal-dev, cross-checks),
 # a Rust toolchain (rustup) when cargo is not on PATH, and the Python peers the
 # cross-checks and benches compare with (pymeshlab, trimesh, numpy, scipy) in .venv, which the

@@ -7,9 +7,19 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
+/// The repository's root (the benches of workspace members include this module too).
+pub fn repo_root() -> PathBuf {
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
+    if manifest.join("benches/peers").exists() {
+        manifest.to_path_buf()
+    } else {
+        manifest.parent().unwrap().to_path_buf()
+    }
+}
+
 /// Folder for generated inputs (kept between runs).
 pub fn data_dir() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench-data");
+    let dir = repo_root().join("target/bench-data");
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
@@ -30,7 +40,7 @@ pub fn median_seconds(repeats: usize, mut f: impl FnMut()) -> f64 {
 
 /// Runs `benches/peers/<script>` with the venv's Python and parses its one JSON line.
 pub fn python_peer(script: &str, args: &[String]) -> Result<serde_json::Value, String> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = repo_root();
     let python = std::env::var("SURFKIT_PYTHON")
         .unwrap_or_else(|_| root.join(".venv/bin/python").display().to_string());
     let out = Command::new(&python)

@@ -345,7 +345,7 @@ fn cpp_examples_built_with_pkg_config_and_cmake_agree_with_the_library() {
         let mut reference = ModelCompanion::new();
         let mut expected_stop: Option<(usize, Vec<u32>)> = None;
         for (f, corners) in mesh.faces().enumerate() {
-            script.push_str("f");
+            script.push('f');
             for c in corners {
                 script.push_str(&format!(" {c}"));
             }

@@ -154,6 +154,10 @@ fn range(v: impl Iterator<Item = f64>) -> [f64; 2] {
     })
 }
 
+/// Most cells of a fit: checked before anything is allocated, so an absurd request is an
+/// error and not an allocation failure (which would abort the process).
+pub const MAX_CELLS: usize = 1 << 20;
+
 /// Fits σ₁ to the data on the parameter rectangle and fills the hole if any.
 ///
 /// Errors: `InvalidInput` for fewer than 1 cell per side, a degenerate parameter range,
@@ -165,6 +169,13 @@ pub fn fit_and_fill(data: &ScatteredData, setup: &FitSetup) -> Result<FitOutcome
         return Err(Error::InvalidInput(
             "need at least one cell per side".into(),
         ));
+    }
+    if setup.cells[0].saturating_mul(setup.cells[1]) > MAX_CELLS {
+        return Err(Error::InvalidInput(format!(
+            "{} × {} cells: at most {MAX_CELLS} cells are supported (the Gram matrices grow \
+             with the cell count; the papers' examples use at most 32 × 32)",
+            setup.cells[0], setup.cells[1]
+        )));
     }
     if data.params.len() != data.points.len() || data.params.is_empty() {
         return Err(Error::InvalidInput(

@@ -108,6 +108,11 @@ static void bad_input() {
   double uv[2] = {0, 0}, xyz[3] = {0, 0, std::numeric_limits<double>::infinity()};
   SurfkitSpline* s = nullptr;
   EXPECT(surfkit_fit(uv, xyz, 1, nullptr, &s) == SURFKIT_INVALID_INPUT && says("data point 0"));
+  SurfkitFitOptions huge;
+  surfkit_fit_options_default(&huge);
+  huge.cells_u = huge.cells_v = 1000000;
+  xyz[2] = 0;
+  EXPECT(surfkit_fit(uv, xyz, 1, &huge, &s) == SURFKIT_INVALID_INPUT && says("cells are supported"));
 
   // The C++ layer throws surfkit::Error with the same message.
   Mesh closed;
