@@ -371,6 +371,22 @@ typedef struct SurfkitFitOptions {
    paper's σ₂ with the constraints of (14).
    */
   int exact_c1;
+  /*
+   Shape-preserving filling (2024 §4, needs `SURFKIT_SPACE_BFS_C1`): the component
+   (0 x, 1 y, 2 z) the conditions τ L(σ) ≥ 0 of (10) apply to, or −1 for none; each
+   condition +1 (value ≥ 0 / increasing), −1 (≤ 0 / decreasing) or 0 (not imposed).
+   */
+  int shape_component;
+  int shape_value;
+  int shape_slope_u;
+  int shape_slope_v;
+  /*
+   Extra constraint points: a k × k lattice in each hole cell, and
+   `shape_point_count` points (u, v) given one by one.
+   */
+  uint32_t shape_lattice;
+  const double *shape_points;
+  uintptr_t shape_point_count;
 } SurfkitFitOptions;
 
 /*

@@ -5,6 +5,7 @@ use std::ffi::{c_char, c_int, CString};
 
 use surfkit::fit::fill::FillVariant;
 use surfkit::fit::pipeline::{fit_and_fill, FitOutcome, FitSetup, HoleSource, SpaceKind};
+use surfkit::fit::shape::{ShapeConstraints, ShapePoint, Tau};
 use surfkit::fit::{data::ScatteredData, Hole, HoleShape};
 
 use crate::pointers::{give, output, reference, slice, slice_mut, take};
@@ -43,6 +44,18 @@ pub struct SurfkitFitOptions {
     /// Non-zero: the filled spline is C¹ across the hole's border (σ ∈ V_h); zero: the
     /// paper's σ₂ with the constraints of (14).
     pub exact_c1: c_int,
+    /// Shape-preserving filling (2024 §4, needs `SURFKIT_SPACE_BFS_C1`): the component
+    /// (0 x, 1 y, 2 z) the conditions τ L(σ) ≥ 0 of (10) apply to, or −1 for none; each
+    /// condition +1 (value ≥ 0 / increasing), −1 (≤ 0 / decreasing) or 0 (not imposed).
+    pub shape_component: c_int,
+    pub shape_value: c_int,
+    pub shape_slope_u: c_int,
+    pub shape_slope_v: c_int,
+    /// Extra constraint points: a k × k lattice in each hole cell, and
+    /// `shape_point_count` points (u, v) given one by one.
+    pub shape_lattice: u32,
+    pub shape_points: *const f64,
+    pub shape_point_count: usize,
 }
 
 /// An opaque solved spline (free with [`surfkit_spline_free`]).
@@ -68,6 +81,13 @@ pub unsafe extern "C" fn surfkit_fit_options_default(options: *mut SurfkitFitOpt
             hole_polygon_count: 0,
             hole_ellipse: [0.0; 5],
             exact_c1: 0,
+            shape_component: -1,
+            shape_value: 0,
+            shape_slope_u: 0,
+            shape_slope_v: 0,
+            shape_lattice: 0,
+            shape_points: std::ptr::null(),
+            shape_point_count: 0,
         };
         Ok(())
     })
@@ -133,8 +153,51 @@ unsafe fn setup(o: &SurfkitFitOptions) -> Result<FitSetup, Failure> {
         } else {
             FillVariant::Paper
         },
-        shape: None,
+        shape: shape(o)?,
     })
+}
+
+fn tau(value: c_int, what: &str) -> Result<Option<Tau>, Failure> {
+    match value {
+        0 => Ok(None),
+        1 => Ok(Some(Tau::Plus)),
+        -1 => Ok(Some(Tau::Minus)),
+        v => Err(Failure::invalid(format!("{what} {v} must be −1, 0 or +1"))),
+    }
+}
+
+unsafe fn shape(o: &SurfkitFitOptions) -> Result<Option<ShapeConstraints>, Failure> {
+    if o.shape_component == -1 {
+        return Ok(None);
+    }
+    if !(0..=2).contains(&o.shape_component) {
+        return Err(Failure::invalid(format!(
+            "shape_component {} must be 0, 1, 2 or −1 (none)",
+            o.shape_component
+        )));
+    }
+    let points = slice(
+        o.shape_points,
+        o.shape_point_count
+            .checked_mul(2)
+            .ok_or_else(|| Failure::invalid("shape_point_count overflows"))?,
+        "shape_points",
+    )?;
+    Ok(Some(ShapeConstraints {
+        component: o.shape_component as usize,
+        value: tau(o.shape_value, "shape_value")?,
+        slope_x: tau(o.shape_slope_u, "shape_slope_u")?,
+        slope_y: tau(o.shape_slope_v, "shape_slope_v")?,
+        extra_per_side: o.shape_lattice as usize,
+        extra_points: points
+            .chunks_exact(2)
+            .enumerate()
+            .map(|(i, p)| ShapePoint {
+                uv: [p[0], p[1]],
+                label: format!("shape point {i}"),
+            })
+            .collect(),
+    }))
 }
 
 /// Fits the smoothing spline to `count` data points — parameters `uv` (2 per point) and

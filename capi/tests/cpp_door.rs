@@ -175,6 +175,41 @@ fn expected_eat_lines(mesh: &PolygonMesh) -> Vec<String> {
     lines
 }
 
+/// The stamp as a drawing script for modeller_companion (`v`, `f`, and `check CHI` at each
+/// stage's end), and where the library's registry stops: the first failing stage (1-based)
+/// and the input ids of the facets since the last verified point.
+fn stamp_script(flaws: &[StampFlaw]) -> (String, Option<(usize, Vec<u32>)>) {
+    let mesh = stamp(flaws);
+    let groups = mesh.groups.as_ref().unwrap();
+    let mut script = String::new();
+    for p in &mesh.positions {
+        script.push_str(&format!("v {} {} {}\n", p[0], p[1], p[2]));
+    }
+    let mut reference = ModelCompanion::new();
+    let mut stop: Option<(usize, Vec<u32>)> = None;
+    for (f, corners) in mesh.faces().enumerate() {
+        script.push('f');
+        for c in corners {
+            script.push_str(&format!(" {c}"));
+        }
+        script.push('\n');
+        reference.register(corners, f as u32);
+        let stage_ends = f + 1 == mesh.face_count() || groups.of_face[f + 1] != groups.of_face[f];
+        if stage_ends {
+            let chi = STAMP_STAGES[groups.of_face[f] as usize].1;
+            script.push_str(&format!("check {chi}\n"));
+            let c = reference.checkpoint(chi);
+            if !c.verified && stop.is_none() {
+                stop = Some((
+                    groups.of_face[f] as usize + 1,
+                    c.since_last_verified.iter().map(|d| d.input_id).collect(),
+                ));
+            }
+        }
+    }
+    (script, stop)
+}
+
 #[test]
 fn cpp_examples_built_with_pkg_config_and_cmake_agree_with_the_library() {
     let installed = Installed::new();
@@ -336,35 +371,7 @@ fn cpp_examples_built_with_pkg_config_and_cmake_agree_with_the_library() {
         vec![StampFlaw::NarrowQuad],
         vec![StampFlaw::Crack],
     ] {
-        let mesh = stamp(&flaws);
-        let groups = mesh.groups.as_ref().unwrap();
-        let mut script = String::new();
-        for p in &mesh.positions {
-            script.push_str(&format!("v {} {} {}\n", p[0], p[1], p[2]));
-        }
-        let mut reference = ModelCompanion::new();
-        let mut expected_stop: Option<(usize, Vec<u32>)> = None;
-        for (f, corners) in mesh.faces().enumerate() {
-            script.push('f');
-            for c in corners {
-                script.push_str(&format!(" {c}"));
-            }
-            script.push('\n');
-            reference.register(corners, f as u32);
-            let stage_ends =
-                f + 1 == mesh.face_count() || groups.of_face[f + 1] != groups.of_face[f];
-            if stage_ends {
-                let chi = STAMP_STAGES[groups.of_face[f] as usize].1;
-                script.push_str(&format!("check {chi}\n"));
-                let c = reference.checkpoint(chi);
-                if !c.verified && expected_stop.is_none() {
-                    expected_stop = Some((
-                        groups.of_face[f] as usize + 1,
-                        c.since_last_verified.iter().map(|d| d.input_id).collect(),
-                    ));
-                }
-            }
-        }
+        let (script, expected_stop) = stamp_script(&flaws);
         let path = work.path().join("stamp.txt");
         std::fs::write(&path, script).unwrap();
         for exe in [&companion, &build.join("modeller_companion")] {
@@ -427,4 +434,84 @@ fn door_checks_pass_plainly_and_under_address_and_leak_sanitizer() {
             ),
         ));
     assert!(stdout.starts_with("ok: "), "{stdout}");
+}
+
+#[test]
+fn spline_fits_through_the_cpp_layer_equal_the_library() {
+    use surfkit::fit::data::ScatteredData;
+    use surfkit::fit::fill::FillVariant;
+    use surfkit::fit::pipeline::{fit_and_fill, FitSetup, HoleSource, SpaceKind};
+    use surfkit::fit::shape::{ShapeConstraints, Tau};
+
+    let installed = Installed::new();
+    let exe = installed.gxx(
+        &repo().join("capi/tests/native/fit_check.cc"),
+        "fit_check",
+        &[],
+    );
+    // A positive height field sampled on a 30 × 30 grid with a disc of no data (the hole).
+    let mut data = ScatteredData::default();
+    let mut csv = String::new();
+    for j in 0..30 {
+        for i in 0..30 {
+            let (u, v) = (i as f64 / 29.0, j as f64 / 29.0);
+            if (u - 0.5).powi(2) + (v - 0.5).powi(2) < 0.04 {
+                continue;
+            }
+            let z = 0.2 + (u - 0.3).powi(2) + 0.5 * (v * 3.0).sin().powi(2);
+            data.params.push([u, v]);
+            data.points.push([u, v, z]);
+            csv.push_str(&format!("{u:?},{v:?},{u:?},{v:?},{z:?}\n"));
+        }
+    }
+    let work = tempfile::tempdir().unwrap();
+    let path = work.path().join("data.csv");
+    std::fs::write(&path, csv).unwrap();
+    for (space, code, cells, hole, shape) in [
+        (SpaceKind::Biquadratic, 0, 6, false, false),
+        (SpaceKind::Bicubic, 1, 5, true, false),
+        (SpaceKind::BfsC1, 2, 5, true, true),
+    ] {
+        let setup = FitSetup {
+            space,
+            cells: [cells, cells],
+            epsilon: 1e-9,
+            hole: if hole {
+                HoleSource::CellsWithoutData
+            } else {
+                HoleSource::None
+            },
+            variant: FillVariant::Paper,
+            shape: shape.then(|| ShapeConstraints {
+                component: 2,
+                value: Some(Tau::Plus),
+                slope_x: None,
+                slope_y: None,
+                extra_per_side: 2,
+                extra_points: Vec::new(),
+            }),
+        };
+        let outcome = fit_and_fill(&data, &setup).unwrap();
+        assert_eq!(outcome.fill.is_some(), hole, "{space:?}");
+        let mut expected = Vec::new();
+        for j in 0..=10 {
+            for i in 0..=10 {
+                expected.push(outcome.eval(i as f64 / 10.0, j as f64 / 10.0).unwrap());
+            }
+        }
+        let stdout = ok(installed.command(&exe).arg(&path).args([
+            code.to_string(),
+            cells.to_string(),
+            (hole as u8).to_string(),
+            (shape as u8).to_string(),
+        ]));
+        let got: Vec<[f64; 3]> = stdout
+            .lines()
+            .map(|l| {
+                let c: Vec<f64> = l.split_whitespace().map(|w| w.parse().unwrap()).collect();
+                [c[0], c[1], c[2]]
+            })
+            .collect();
+        assert_eq!(first_difference(&got, &expected), None, "{space:?}");
+    }
 }

@@ -651,6 +651,12 @@ struct FitOptions {
   std::vector<std::array<double, 2>> hole_polygon;
   std::array<double, 5> hole_ellipse{};  // cu, cv, a, b, level
   bool exact_c1 = false;
+  /// Shape-preserving filling (2024, SURFKIT_SPACE_BFS_C1): component (0 x, 1 y, 2 z;
+  /// −1 none) and the conditions (+1 ≥ 0 / increasing, −1 ≤ 0 / decreasing, 0 none).
+  int shape_component = -1;
+  int shape_value = 0, shape_slope_u = 0, shape_slope_v = 0;
+  unsigned shape_lattice = 0;
+  std::vector<std::array<double, 2>> shape_points;
 };
 
 /// A solved spline: evaluate σ at (u, v) in the data's parameter rectangle.
@@ -692,6 +698,13 @@ inline Spline fit(const std::vector<std::array<double, 2>>& uv, const std::vecto
   o.hole_polygon_count = options.hole_polygon.size();
   for (int k = 0; k < 5; ++k) o.hole_ellipse[k] = options.hole_ellipse[k];
   o.exact_c1 = options.exact_c1 ? 1 : 0;
+  o.shape_component = options.shape_component;
+  o.shape_value = options.shape_value;
+  o.shape_slope_u = options.shape_slope_u;
+  o.shape_slope_v = options.shape_slope_v;
+  o.shape_lattice = options.shape_lattice;
+  o.shape_points = options.shape_points.empty() ? nullptr : options.shape_points.front().data();
+  o.shape_point_count = options.shape_points.size();
   SurfkitSpline* out = nullptr;
   detail::check(surfkit_fit(uv.empty() ? nullptr : uv.front().data(), xyz.empty() ? nullptr : xyz.front().data(),
                             uv.size(), &o, &out));

@@ -92,6 +92,10 @@ pub struct ShapeFill {
     pub report: ShapeReport,
 }
 
+/// Most extra constraint points of a lattice (each is a row of the QP for every imposed
+/// condition): checked before anything is allocated.
+pub const MAX_LATTICE_POINTS: usize = 1 << 20;
+
 /// Solves (11) of the 2024 paper on the BFS space `space`.
 ///
 /// `boundary` is a spline of `space` whose nodal degrees of freedom on ∂H_h are
@@ -124,6 +128,16 @@ pub fn shape_preserving_fill(
         return Err(Error::InvalidInput(
             "boundary spline does not match the space, or component index > 2".into(),
         ));
+    }
+    let lattice_points = nh
+        .saturating_mul(shape.extra_per_side)
+        .saturating_mul(shape.extra_per_side);
+    if lattice_points > MAX_LATTICE_POINTS {
+        return Err(Error::InvalidInput(format!(
+            "a {k} × {k} lattice of extra constraint points in each of {nh} hole cells makes \
+             {lattice_points} points: at most {MAX_LATTICE_POINTS} are supported",
+            k = shape.extra_per_side
+        )));
     }
     let (nx, ny) = g.shape();
     let hcells: Vec<Cell> = g.cells().filter(|&c| hole_cells[g.cell_index(c)]).collect();
