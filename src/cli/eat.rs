@@ -101,6 +101,10 @@ fn fail_kinds(names: &[String]) -> Result<Vec<FlawKind>> {
 }
 
 pub fn run(args: &EatArgs) -> Result<ExitCode> {
+    super::check_paths(
+        &[Some(&args.mesh), args.reference.as_deref()],
+        &[args.mark.as_deref()],
+    )?;
     let fail_on = fail_kinds(&args.fail_on)?;
     if args.weld_tolerance.is_nan() || args.weld_tolerance < 0.0 {
         return Err(Error::InvalidInput(format!(

@@ -289,12 +289,10 @@ pub(super) fn optimize_with_progress(
 }
 
 pub fn run(args: &FairArgs) -> crate::Result<()> {
-    for target in [Some(&args.output), args.samples.as_ref()]
-        .into_iter()
-        .flatten()
-    {
-        super::refuse_overwrite(&args.input, target)?;
-    }
+    super::check_paths(
+        &[Some(&args.input), args.fixed.as_deref()],
+        &[Some(&args.output), args.samples.as_deref()],
+    )?;
     let mesh = read(&args.input)?;
     let mut options = options(args);
     if let Some(path) = &args.fixed {

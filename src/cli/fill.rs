@@ -222,6 +222,11 @@ fn hole_shape(spec: &str) -> Result<HoleShape> {
 /// Errors: unreadable or malformed input (named by file and line), bad arguments,
 /// ill-posed problems (too few points, a hole covering everything, ε ≤ 0), write failures.
 pub fn run(args: &FillArgs) -> Result<()> {
+    let a = &args.spline;
+    super::check_paths(
+        &[Some(&a.input), args.shape_points.as_deref()],
+        &[a.output.as_deref(), a.coefficients.as_deref()],
+    )?;
     let hole = if args.hole_from_data {
         HoleSource::CellsWithoutData
     } else if args.hole.is_empty() {

@@ -18,6 +18,11 @@ pub struct FitArgs {
 /// Errors: unreadable or malformed input (named by file and line), bad arguments,
 /// ill-posed problems (too few or collinear points, ε ≤ 0), write failures.
 pub fn run(args: &FitArgs) -> Result<()> {
+    let a = &args.spline;
+    super::check_paths(
+        &[Some(&a.input)],
+        &[a.output.as_deref(), a.coefficients.as_deref()],
+    )?;
     let setup = super::fill::setup(&args.spline, HoleSource::None, FillVariant::Paper)?;
     let out = super::fill::load_and_solve(&args.spline, &setup)?;
     let s = &out.summary;

@@ -36,7 +36,10 @@ pub struct LimitArgs {
 }
 
 pub fn run(args: &LimitArgs) -> crate::Result<()> {
-    super::refuse_overwrite(&args.input, &args.output)?;
+    super::check_paths(
+        &[Some(&args.input)],
+        &[Some(&args.output), args.png.as_deref()],
+    )?;
     let mesh = read(&args.input)?;
     let options = SubdivOptions {
         boundary: args.boundary.into(),

@@ -1,5 +1,21 @@
 //! The `surfkit` command line: one file per subcommand; argument parsing and printing only.
 
+/// `print!` for the subcommands: through [`output::write_stdout`] (closed pipes end quietly,
+/// other write errors are an error, never a panic).
+macro_rules! print {
+    ($($arg:tt)*) => { $crate::cli::output::write_stdout(format_args!($($arg)*)) };
+}
+
+/// `println!` for the subcommands, as [`print!`].
+macro_rules! println {
+    () => { $crate::cli::output::write_stdout(format_args!("\n")) };
+    ($($arg:tt)*) => {
+        $crate::cli::output::write_stdout(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+
+mod output;
+
 mod convert;
 mod demo;
 mod eat;
@@ -11,6 +27,7 @@ mod limit;
 mod paper;
 mod subdivide;
 
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
@@ -82,15 +99,55 @@ pub fn main() -> ExitCode {
     }
 }
 
-/// An error when `output` names the same file as `input`: surfkit never writes over its input.
-fn refuse_overwrite(input: &std::path::Path, output: &std::path::Path) -> crate::Result<()> {
-    match (input.canonicalize(), output.canonicalize()) {
-        (Ok(a), Ok(b)) if a == b => Err(crate::Error::InvalidInput(format!(
-            "{}: refusing to write over the input file",
-            output.display()
-        ))),
-        _ => Ok(()),
+/// Checks a command's paths before any work: every output's folder exists, no output names
+/// an input (after resolving symlinks and `..`: surfkit never writes over its input), and
+/// no two outputs name the same file.
+///
+/// # Errors
+/// [`crate::Error::InvalidInput`] naming the path and the problem.
+fn check_paths(inputs: &[Option<&Path>], outputs: &[Option<&Path>]) -> crate::Result<()> {
+    let bad = |m: String| Err(crate::Error::InvalidInput(m));
+    let inputs: Vec<(&Path, Option<PathBuf>)> = inputs
+        .iter()
+        .flatten()
+        .map(|p| (*p, p.canonicalize().ok()))
+        .collect();
+    let mut seen: Vec<(&Path, PathBuf)> = Vec::new();
+    for output in outputs.iter().flatten() {
+        let resolved = match output.canonicalize() {
+            Ok(p) => p,
+            Err(_) => {
+                let folder = match output.parent() {
+                    Some(f) if !f.as_os_str().is_empty() => f,
+                    _ => Path::new("."),
+                };
+                let Ok(folder) = folder.canonicalize() else {
+                    return bad(format!(
+                        "{}: the folder {} does not exist",
+                        output.display(),
+                        folder.display()
+                    ));
+                };
+                folder.join(output.file_name().unwrap_or_default())
+            }
+        };
+        if let Some((input, _)) = inputs.iter().find(|(_, i)| i.as_ref() == Some(&resolved)) {
+            return bad(format!(
+                "{}: refusing to write over the input file {}",
+                output.display(),
+                input.display()
+            ));
+        }
+        if let Some((other, _)) = seen.iter().find(|(_, r)| *r == resolved) {
+            return bad(format!(
+                "{} and {} name the same file: each output needs its own path",
+                other.display(),
+                output.display()
+            ));
+        }
+        seen.push((output, resolved));
     }
+    Ok(())
 }
 
 /// Prints a report as pretty JSON on standard output.

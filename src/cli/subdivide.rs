@@ -84,7 +84,7 @@ pub struct SubdivideArgs {
 }
 
 pub fn run(args: &SubdivideArgs) -> crate::Result<()> {
-    super::refuse_overwrite(&args.input, &args.output)?;
+    super::check_paths(&[Some(&args.input)], &[Some(&args.output)])?;
     let mesh = read(&args.input)?;
     let options = SubdivOptions {
         boundary: args.boundary.into(),

@@ -44,6 +44,11 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
     let err = |line: usize, msg: String| Error::parse(path, Location::Line(line), msg);
     let mut joined = Vec::new();
     let mut lines = Lines::new(bytes);
+    // Records of a keyword OBJ defines, and the first line that starts with none: a file
+    // with content but no OBJ record (binary data named .obj) is refused, not read as an
+    // empty mesh.
+    let mut known_records = 0usize;
+    let mut first_unknown: Option<(usize, String)> = None;
     while let Some((number, mut line)) = lines.next() {
         // A trailing backslash continues the record on the next line.
         if line.last() == Some(&b'\\') {
@@ -66,6 +71,11 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
         }
         let mut toks = tokens(line);
         let Some(keyword) = toks.next() else { continue };
+        if keyword.starts_with(b"#") || OBJ_KEYWORDS.contains(&keyword) {
+            known_records += 1;
+        } else if first_unknown.is_none() {
+            first_unknown = Some((number, show(keyword)));
+        }
         match keyword {
             b"v" => read_vertex(&mut b, toks, number).map_err(|m| err(number, why(line, m)))?,
             b"vt" => {
@@ -109,8 +119,62 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             _ => {}
         }
     }
+    if let (0, Some((number, keyword))) = (known_records, first_unknown) {
+        return Err(err(
+            number,
+            format!(
+                "no OBJ record in the file (this line starts with {keyword:?}): not an OBJ file?"
+            ),
+        ));
+    }
     finish(b, path, options)
 }
+
+/// The keywords of the OBJ format (Wavefront's specification) and OpenSubdiv's `t` tags:
+/// a line starting with one of them is an OBJ record, read or deliberately skipped.
+const OBJ_KEYWORDS: [&[u8]; 41] = [
+    b"v",
+    b"vt",
+    b"vn",
+    b"vp",
+    b"f",
+    b"fo",
+    b"l",
+    b"p",
+    b"o",
+    b"g",
+    b"s",
+    b"mg",
+    b"usemtl",
+    b"mtllib",
+    b"maplib",
+    b"usemap",
+    b"cstype",
+    b"deg",
+    b"bmat",
+    b"step",
+    b"curv",
+    b"curv2",
+    b"surf",
+    b"parm",
+    b"trim",
+    b"hole",
+    b"scrv",
+    b"sp",
+    b"end",
+    b"con",
+    b"call",
+    b"csh",
+    b"lod",
+    b"shadow_obj",
+    b"trace_obj",
+    b"ctech",
+    b"stech",
+    b"bevel",
+    b"c_interp",
+    b"d_interp",
+    b"t",
+];
 
 /// The message for a bad record: when the line is not UTF-8, that is the problem to name
 /// (a number or index with a stray byte), otherwise `message`.

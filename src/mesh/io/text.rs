@@ -1,7 +1,9 @@
 //! Byte-level helpers shared by the text readers (OBJ, OFF, ASCII PLY): lines with their
 //! numbers, whitespace-separated tokens, numbers parsed without allocating.
 
-/// Iterates over `(1-based line number, line without its end-of-line bytes)`.
+/// Iterates over `(1-based line number, line without its end-of-line bytes)`. Lines end at
+/// LF, CR LF or a lone CR (classic Mac OS writers), and a leading UTF-8 byte-order mark is
+/// skipped (Windows writers put one before the first record).
 pub struct Lines<'a> {
     rest: &'a [u8],
     number: usize,
@@ -10,7 +12,7 @@ pub struct Lines<'a> {
 impl<'a> Lines<'a> {
     pub fn new(bytes: &'a [u8]) -> Self {
         Lines {
-            rest: bytes,
+            rest: bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes),
             number: 0,
         }
     }
@@ -29,12 +31,14 @@ impl<'a> Iterator for Lines<'a> {
             return None;
         }
         self.number += 1;
-        let (line, rest) = match memchr::memchr(b'\n', self.rest) {
+        let (line, rest) = match memchr::memchr2(b'\n', b'\r', self.rest) {
+            Some(i) if self.rest[i] == b'\r' && self.rest.get(i + 1) == Some(&b'\n') => {
+                (&self.rest[..i], &self.rest[i + 2..])
+            }
             Some(i) => (&self.rest[..i], &self.rest[i + 1..]),
             None => (self.rest, &self.rest[self.rest.len()..]),
         };
         self.rest = rest;
-        let line = line.strip_suffix(b"\r").unwrap_or(line);
         Some((self.number, line))
     }
 }
@@ -101,6 +105,16 @@ mod tests {
     #[test]
     fn lines_number_and_strip_cr() {
         let v: Vec<_> = Lines::new(b"a\r\nb\n\nc").collect();
+        let bom_and_cr: Vec<_> = Lines::new(b"\xEF\xBB\xBFv 1\rv 2\r\rf").collect();
+        assert_eq!(
+            bom_and_cr,
+            vec![
+                (1, &b"v 1"[..]),
+                (2, &b"v 2"[..]),
+                (3, &b""[..]),
+                (4, &b"f"[..])
+            ]
+        );
         assert_eq!(v, vec![(1, &b"a"[..]), (2, b"b"), (3, b""), (4, b"c")]);
     }
 

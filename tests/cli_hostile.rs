@@ -1,0 +1,288 @@
+//! The command line under a hostile environment and hostile input (generated here, not
+//! fixture files): a reader that closes the pipe, a full disk, outputs that name inputs or
+//! each other or a missing folder, and text files as real-world writers produce them (BOM,
+//! CR, CR LF) or binary garbage named .obj. Each case asserts the exit status, the message
+//! (file and problem), that no output file is left behind and that inputs are unmodified.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn surfkit() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_surfkit"))
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).to_string()
+}
+
+/// `n` separate triangles: every one its own component, so `eat --json` prints far more
+/// than a pipe holds.
+fn soup(dir: &Path, n: usize) -> PathBuf {
+    let mut text = String::new();
+    for k in 0..n {
+        let x = k as f64;
+        text.push_str(&format!("v {x} 0 0\nv {x} 1 0\nv {} 0 0\n", x + 0.5));
+    }
+    for k in 0..n {
+        text.push_str(&format!("f {} {} {}\n", 3 * k + 1, 3 * k + 2, 3 * k + 3));
+    }
+    let path = dir.join("soup.obj");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn a_closed_pipe_ends_the_command_quietly() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = soup(dir.path(), 20_000);
+    let mut child = surfkit()
+        .arg("eat")
+        .arg(&mesh)
+        .arg("--json")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // the reader goes away at once, as `| head -c 10` does
+    let out = child.wait_with_output().unwrap();
+    let code = out.status.code();
+    assert!(
+        code == Some(141) || code == Some(0),
+        "status {:?}",
+        out.status
+    );
+    assert_eq!(stderr(&out), "", "a closed pipe is not an error to report");
+}
+
+#[test]
+fn a_full_disk_on_standard_output_is_a_one_line_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = soup(dir.path(), 10);
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    let out = surfkit()
+        .arg("eat")
+        .arg(&mesh)
+        .stdout(Stdio::from(full))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let text = stderr(&out);
+    assert_eq!(text.lines().count(), 1, "{text}");
+    assert!(
+        text.contains("cannot write to standard output") && text.contains("No space left"),
+        "{text}"
+    );
+}
+
+/// Runs `args` (with `{in}`, `{csv}`, `{dir}` and `{base}` replaced by a real mesh, a real
+/// CSV, a fresh folder holding them and that folder's name) and asserts that it fails with `message` before writing
+/// anything, and leaves the inputs as they were.
+fn refused(args: &[&str], message: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("in.obj");
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/meshes/catmark_torus.obj"),
+        &mesh,
+    )
+    .unwrap();
+    let csv = dir.path().join("in.csv");
+    let mut data = String::from("u,v,x,y,z\n");
+    for j in 0..12 {
+        for i in 0..12 {
+            let (u, v) = (i as f64 / 11.0, j as f64 / 11.0);
+            data.push_str(&format!("{u},{v},{u},{v},{}\n", u * v));
+        }
+    }
+    std::fs::write(&csv, &data).unwrap();
+    let before: Vec<(PathBuf, Vec<u8>)> = [&mesh, &csv]
+        .iter()
+        .map(|p| (p.to_path_buf(), std::fs::read(p).unwrap()))
+        .collect();
+    let args: Vec<String> = args
+        .iter()
+        .map(|a| {
+            a.replace("{in}", mesh.to_str().unwrap())
+                .replace("{csv}", csv.to_str().unwrap())
+                .replace("{dir}", dir.path().to_str().unwrap())
+                .replace("{base}", dir.path().file_name().unwrap().to_str().unwrap())
+        })
+        .collect();
+    let out = surfkit().args(&args).output().unwrap();
+    assert_eq!(out.status.code(), Some(1), "{args:?}: {}", stderr(&out));
+    assert!(stderr(&out).contains(message), "{args:?}: {}", stderr(&out));
+    for (path, bytes) in before {
+        assert_eq!(
+            std::fs::read(&path).unwrap(),
+            bytes,
+            "{args:?} modified {}",
+            path.display()
+        );
+    }
+    let mut names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["in.csv", "in.obj"], "{args:?} left files behind");
+}
+
+#[test]
+fn no_output_may_name_an_input_another_output_or_a_missing_folder() {
+    refused(
+        &["limit", "{in}", "-o", "{dir}/o.ply", "--png", "{in}"],
+        "refusing to write over the input file",
+    );
+    refused(
+        &["eat", "{in}", "--mark", "{in}"],
+        "refusing to write over the input file",
+    );
+    refused(
+        &["eat", "{in}", "--reference", "{csv}", "--mark", "{csv}"],
+        "refusing to write over the input file",
+    );
+    refused(
+        &["fit", "{csv}", "--coefficients", "{csv}"],
+        "refusing to write over the input file",
+    );
+    refused(
+        &["fit", "{csv}", "--output", "{dir}/../{base}/in.csv"],
+        "refusing to write over the input file",
+    );
+    refused(
+        &["fair", "{in}", "--fixed", "{csv}", "-o", "{csv}"],
+        "refusing to write over the input file",
+    );
+    refused(
+        &["limit", "{in}", "-o", "{dir}/x.ply", "--png", "{dir}/x.ply"],
+        "name the same file",
+    );
+    refused(
+        &[
+            "fit",
+            "{csv}",
+            "--output",
+            "{dir}/s.ply",
+            "--coefficients",
+            "{dir}/s.ply",
+        ],
+        "name the same file",
+    );
+    refused(
+        &["subdivide", "{in}", "-o", "{dir}/nodir/x.obj"],
+        "does not exist",
+    );
+    refused(&["convert", "{in}", "{dir}/nodir/x.ply"], "does not exist");
+    refused(
+        &[
+            "fair",
+            "{in}",
+            "-o",
+            "{dir}/o.obj",
+            "--samples",
+            "{dir}/nodir/s.ply",
+        ],
+        "does not exist",
+    );
+}
+
+#[test]
+fn symlinks_to_an_input_are_the_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("a.obj");
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/meshes/catmark_torus.obj"),
+        &mesh,
+    )
+    .unwrap();
+    let link = dir.path().join("link.obj");
+    std::os::unix::fs::symlink(&mesh, &link).unwrap();
+    let before = std::fs::read(&mesh).unwrap();
+    let out = surfkit()
+        .arg("convert")
+        .arg(&mesh)
+        .arg(&link)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).contains("refusing to write over the input file"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(std::fs::read(&mesh).unwrap(), before);
+}
+
+#[test]
+fn text_files_as_real_writers_make_them_read_alike() {
+    // The same triangle fan written with LF, CR LF, CR alone, and a UTF-8 byte-order mark.
+    let lf = "# fan\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n";
+    let dir = tempfile::tempdir().unwrap();
+    let read = |name: &str, bytes: Vec<u8>| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, bytes).unwrap();
+        surfkit::mesh::io::read(&path).unwrap()
+    };
+    let reference = read("lf.obj", lf.as_bytes().to_vec());
+    assert_eq!(reference.vertex_count(), 4);
+    for (name, bytes) in [
+        ("crlf.obj", lf.replace('\n', "\r\n").into_bytes()),
+        ("cr.obj", lf.replace('\n', "\r").into_bytes()),
+        ("bom.obj", [&b"\xEF\xBB\xBF"[..], lf.as_bytes()].concat()),
+        (
+            "bom_crlf.obj",
+            [&b"\xEF\xBB\xBF"[..], lf.replace('\n', "\r\n").as_bytes()].concat(),
+        ),
+    ] {
+        assert_eq!(read(name, bytes), reference, "{name}");
+    }
+    // OFF too.
+    let off = "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
+    let off_ref = read("lf.off", off.as_bytes().to_vec());
+    assert_eq!(
+        read("cr.off", off.replace('\n', "\r").into_bytes()),
+        off_ref
+    );
+    assert_eq!(
+        read("bom.off", [&b"\xEF\xBB\xBF"[..], off.as_bytes()].concat()),
+        off_ref
+    );
+}
+
+#[test]
+fn binary_garbage_named_obj_is_refused_and_nothing_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let garbage = dir.path().join("garbage.obj");
+    // Deterministic bytes that are no OBJ: a linear congruential sequence.
+    let mut x: u32 = 12345;
+    let bytes: Vec<u8> = (0..4096)
+        .map(|_| {
+            x = x.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+            (x >> 16) as u8
+        })
+        .collect();
+    std::fs::write(&garbage, bytes).unwrap();
+    let out_path = dir.path().join("out.ply");
+    let out = surfkit()
+        .arg("convert")
+        .arg(&garbage)
+        .arg(&out_path)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let text = stderr(&out);
+    assert!(
+        text.contains("garbage.obj") && text.contains("not an OBJ file"),
+        "{text}"
+    );
+    assert!(!out_path.exists());
+    // A file of comments only is an empty mesh, not garbage.
+    let comments = dir.path().join("comments.obj");
+    std::fs::write(&comments, "# nothing here yet\n\n# still nothing\n").unwrap();
+    assert_eq!(
+        surfkit::mesh::io::read(&comments).unwrap().vertex_count(),
+        0
+    );
+}
