@@ -4,4 +4,7 @@
 # any further suites a later part of the project adds below.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# `cargo test` builds no cdylib/staticlib for a crate that has no rlib (capi), yet the C++ tests
+# link libsurfkit.so and libsurfkit.a: build the whole workspace first.
+cargo build --release --workspace
 cargo test --release --workspace

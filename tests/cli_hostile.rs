@@ -286,3 +286,95 @@ fn binary_garbage_named_obj_is_refused_and_nothing_is_written() {
         0
     );
 }
+
+#[test]
+fn outputs_follow_the_umask_keep_a_files_mode_and_write_through_symlinks() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/meshes/catmark_torus.obj");
+    let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    // What the umask gives a new file, measured the way a shell's `>` creates one.
+    let reference = dir.path().join("reference");
+    std::fs::File::create(&reference).unwrap();
+    let out = dir.path().join("out.ply");
+    let convert = |to: &Path| {
+        let o = surfkit()
+            .arg("convert")
+            .arg(&input)
+            .arg(to)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", stderr(&o));
+    };
+    convert(&out);
+    assert_eq!(mode(&out), mode(&reference));
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o640)).unwrap();
+    convert(&out);
+    assert_eq!(mode(&out), 0o640, "a replaced file keeps its mode");
+    let link = dir.path().join("link.ply");
+    std::os::unix::fs::symlink(&out, &link).unwrap();
+    std::fs::write(&out, b"old").unwrap();
+    convert(&link);
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert!(
+        std::fs::read(&out).unwrap().starts_with(b"ply"),
+        "the link's target was replaced"
+    );
+}
+
+#[test]
+fn absurd_sizes_are_refused_before_any_work_with_the_option_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("in.csv");
+    std::fs::write(&csv, "0,0,0,0,0\n1,0,1,0,0\n0,1,0,1,0\n1,1,1,1,1\n").unwrap();
+    let out = dir.path().join("out.obj");
+    let out_arg = out.to_str().unwrap();
+    let csv_arg = csv.to_str().unwrap();
+    for (args, status, message) in [
+        (
+            vec!["gen", "tubes", "--size", "100000", "-o", out_arg],
+            1,
+            "(--size)",
+        ),
+        (
+            vec!["gen", "tubes", "--rings", "4294967295", "-o", out_arg],
+            1,
+            "(--rings)",
+        ),
+        (
+            vec!["gen", "tubes", "--size", "1000", "-o", out_arg],
+            1,
+            "at most 4000000",
+        ),
+        (
+            vec!["fit", csv_arg, "--cells", "1000000,1000000"],
+            1,
+            "cells are supported",
+        ),
+        (
+            vec![
+                "fit",
+                csv_arg,
+                "--resolution",
+                "100000",
+                "--output",
+                out_arg,
+            ],
+            2,
+            "--resolution",
+        ),
+        (
+            vec!["fair", csv_arg, "-o", out_arg, "--sample-density", "0"],
+            2,
+            "--sample-density",
+        ),
+    ] {
+        let o = surfkit().args(&args).output().unwrap();
+        assert_eq!(o.status.code(), Some(status), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(message), "{args:?}: {}", stderr(&o));
+        assert!(!out.exists(), "{args:?} wrote its output");
+    }
+}

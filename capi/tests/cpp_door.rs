@@ -27,7 +27,8 @@ fn built_libs() -> PathBuf {
     let dir = exe.parent().unwrap().parent().unwrap().to_path_buf();
     assert!(
         dir.join("libsurfkit.so").exists(),
-        "no libsurfkit.so in {}",
+        "no libsurfkit.so in {}: `cargo test` does not build the C library, run \
+         `cargo build --release --workspace` first (scripts/test.sh does)",
         dir.display()
     );
     dir

@@ -55,8 +55,9 @@ pub struct FairArgs {
     /// Limit samples of the optimized surface (.ply: mean curvature as vertex quality).
     #[arg(long)]
     pub samples: Option<PathBuf>,
-    /// Grid cells along each side of a face for --samples and --figures.
-    #[arg(long, default_value_t = 4)]
+    /// Grid cells along each side of a face for --samples and --figures (1 to 256: checked
+    /// before any work).
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=i64::from(crate::subdiv::MAX_SAMPLES)))]
     pub sample_density: u32,
     /// Folder for before/after curvature-map pictures (PNG, one colour scale for both).
     #[arg(long)]

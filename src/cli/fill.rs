@@ -50,9 +50,9 @@ pub struct SplineArgs {
     /// Coefficients to write (.json).
     #[arg(long)]
     pub coefficients: Option<PathBuf>,
-    /// Samples per side of the mesh.
-    #[arg(long, default_value_t = 64)]
-    pub resolution: usize,
+    /// Samples per side of the mesh (1 to 4096: checked before any work).
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub resolution: u32,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
@@ -335,7 +335,7 @@ pub(super) fn load_and_solve(
         args.offset.as_deref(),
         args.output.as_deref(),
         args.coefficients.as_deref(),
-        args.resolution,
+        args.resolution as usize,
     );
     let is_csv = input
         .extension()

@@ -34,6 +34,10 @@ const OPENING: f64 = 1.6;
 /// Most tubes accepted: beyond this the sectors are slivers and the picture is a hedgehog.
 pub const MAX_TUBES: u32 = 64;
 
+/// Most vertices [`tubes`] generates (an absurd `--size` or `--rings` is an error, not an
+/// allocation failure or minutes of work).
+pub const MAX_TUBE_VERTICES: u64 = 4_000_000;
+
 /// Distance of the openings' centres from the junction's centre: at least [`OPENING`], and
 /// enough that neighbouring openings (radius [`RADIUS`], angle 2π/n apart) are separated by
 /// a quarter of their diameter.
@@ -58,6 +62,16 @@ pub fn tubes(n: u32, m: u32, rings: u32) -> Result<PolygonMesh> {
         )));
     }
     let k = 2 * n;
+    // Vertices the request implies, counted in u64 before anything is allocated.
+    let (k64, m64) = (u64::from(k), u64::from(m));
+    let implied = 2 * (1 + k64 * m64 + k64 * m64 * m64) + u64::from(n) * 4 * m64 * u64::from(rings);
+    if implied > MAX_TUBE_VERTICES {
+        return Err(Error::InvalidInput(format!(
+            "a junction of {n} tubes with {m} quads per sector side (--size) and {rings} rings \
+             (--rings) has about {implied} vertices; at most {MAX_TUBE_VERTICES} are generated \
+             (refine a smaller junction with --refine for larger meshes)"
+        )));
+    }
     let opening = opening_distance(n);
     let spread = 360.0 / f64::from(n);
     let per_disc = (1 + k * m + k * m * m) as usize;
