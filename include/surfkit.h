@@ -102,6 +102,12 @@
 #define SURFKIT_INTERNAL 7
 
 /*
+ The operation would need more memory than its limit (half of the machine's memory): the
+ message names what and the limit.
+ */
+#define SURFKIT_RESOURCE_LIMIT 8
+
+/*
  Boundary rule: no limit surface on boundary faces.
  */
 #define SURFKIT_BOUNDARY_NONE 0

@@ -82,6 +82,14 @@ pub enum Error {
     /// A precondition of a function was not met by its arguments.
     #[error("invalid input: {0}")]
     InvalidInput(String),
+    /// An operation would need more memory than its budget allows
+    /// ([`crate::limits::MemoryBudget`]).
+    #[error("{what} needs more than the memory limit of {} ({advice}; raise the limit with --max-memory)", crate::limits::human_bytes(*limit))]
+    ResourceLimit {
+        what: String,
+        limit: u64,
+        advice: String,
+    },
     /// The mesh's topology does not allow the operation.
     #[error("topology: {0}")]
     Topology(String),

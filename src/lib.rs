@@ -12,6 +12,7 @@ pub mod fair;
 mod ffi;
 pub mod fit;
 pub mod halfedge;
+pub mod limits;
 pub mod linalg;
 pub mod mesh;
 pub mod report;

@@ -25,6 +25,9 @@ pub const SURFKIT_SOLVER: c_int = 5;
 pub const SURFKIT_FFI: c_int = 6;
 /// An internal error (a caught panic): please report it with the message.
 pub const SURFKIT_INTERNAL: c_int = 7;
+/// The operation would need more memory than its limit (half of the machine's memory): the
+/// message names what and the limit.
+pub const SURFKIT_RESOURCE_LIMIT: c_int = 8;
 
 thread_local! {
     static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
@@ -63,6 +66,7 @@ impl From<surfkit::Error> for Failure {
             E::Topology(_) => SURFKIT_TOPOLOGY,
             E::Solver { .. } => SURFKIT_SOLVER,
             E::Ffi { .. } => SURFKIT_FFI,
+            E::ResourceLimit { .. } => SURFKIT_RESOURCE_LIMIT,
         };
         Failure {
             code,

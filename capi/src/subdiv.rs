@@ -168,7 +168,14 @@ pub unsafe extern "C" fn surfkit_limit_new(
         let out = output(out, "out")?;
         let mesh = &reference(mesh, "mesh")?.mesh;
         let options = subdiv_options(options)?;
-        let surface = limit_surface(mesh, &options, &PatchOptions { max_isolation })?;
+        let surface = limit_surface(
+            mesh,
+            &options,
+            &PatchOptions {
+                max_isolation,
+                ..PatchOptions::default()
+            },
+        )?;
         give(out, SurfkitLimit { surface });
         Ok(())
     })

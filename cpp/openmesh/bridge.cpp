@@ -1,5 +1,6 @@
 // Implementation of the OpenMesh bridge (see bridge.h).
 #include "surfkit/cpp/openmesh/bridge.h"
+#include <algorithm>
 
 #include <iostream>
 #include <mutex>
@@ -98,12 +99,20 @@ uint8_t classify(const std::string& message) {
   return OTHER;
 }
 
+// Fewer than three corners or a repeated corner. Small faces by pairs; large ones (a face
+// may have a million corners) sorted, so the check stays n log n.
 bool is_degenerate(const std::vector<PolyMesh::VertexHandle>& vs) {
   if (vs.size() < 3) return true;
-  for (size_t i = 0; i < vs.size(); ++i)
-    for (size_t j = i + 1; j < vs.size(); ++j)
-      if (vs[i] == vs[j]) return true;
-  return false;
+  if (vs.size() <= 32) {
+    for (size_t i = 0; i < vs.size(); ++i)
+      for (size_t j = i + 1; j < vs.size(); ++j)
+        if (vs[i] == vs[j]) return true;
+    return false;
+  }
+  std::vector<int> ids(vs.size());
+  for (size_t i = 0; i < vs.size(); ++i) ids[i] = vs[i].idx();
+  std::sort(ids.begin(), ids.end());
+  return std::adjacent_find(ids.begin(), ids.end()) != ids.end();
 }
 
 // Adds one face; returns its status and appends OpenMesh's message (if any) to `said`.

@@ -1,7 +1,10 @@
 // Implementation of the OpenSubdiv shim (see shim.h).
 #include "shim.h"
+#include "stencil_composer.h"
 
 #include <algorithm>
+#include <climits>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
@@ -16,7 +19,6 @@
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/ptexIndices.h>
 #include <opensubdiv/far/stencilTable.h>
-#include <opensubdiv/far/stencilTableFactory.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
 #include <opensubdiv/version.h>
@@ -271,18 +273,64 @@ extern "C" void surfkit_osd_uniform_destroy(surfkit_osd_uniform* r) { delete r; 
 struct surfkit_osd_patches {
   std::unique_ptr<Far::TopologyRefiner> refiner;
   std::unique_ptr<const Far::PatchTable> table;
-  std::unique_ptr<const Far::StencilTableReal<double>> stencils;  // points >= control verts
-  std::vector<Far::PatchTable::PatchHandle> handles;              // per patch
+  std::unique_ptr<surfkit_osd::StencilComposer> stencils;  // points >= control verts
+  std::vector<Far::PatchTable::PatchHandle> handles;       // per patch
   int num_control_vertices = 0;
   int num_patch_points = 0;
-  size_t num_stencil_entries = 0;
 };
 
+namespace {
+
+Far::PatchTableFactory::Options patch_options(int isolation) {
+  Far::PatchTableFactory::Options popt(isolation);
+  popt.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_BSPLINE_BASIS);
+  popt.SetPatchPrecision<double>();
+  popt.generateVaryingTables = false;
+  popt.generateVaryingLocalPoints = false;
+  return popt;
+}
+
+// Refines adaptively to the highest level <= max_isolation whose refined vertices (all
+// levels) stay within max_points, never refining a level that would pass it: level by level
+// unless even 4^max_isolation times the control mesh fits. Returns the level, 0 when even
+// level 1 does not fit.
+int refine_within(Far::TopologyRefiner& refiner, int max_isolation, size_t max_points) {
+  const Far::TopologyLevel& base = refiner.GetLevel(0);
+  const double bound = (static_cast<double>(base.GetNumVertices()) + base.GetNumFaces()) *
+                       std::ldexp(1.0, 2 * max_isolation);
+  if (bound <= static_cast<double>(max_points)) {
+    refiner.RefineAdaptive(patch_options(max_isolation).GetRefineAdaptiveOptions());
+    return max_isolation;
+  }
+  for (int level = 1; level <= max_isolation; ++level) {
+    if (level > 1) refiner.Unrefine();
+    refiner.RefineAdaptive(patch_options(level).GetRefineAdaptiveOptions());
+    const size_t total = static_cast<size_t>(refiner.GetNumVerticesTotal());
+    if (total > max_points) {
+      refiner.Unrefine();
+      if (level == 1) return 0;
+      refiner.RefineAdaptive(patch_options(level - 1).GetRefineAdaptiveOptions());
+      return level - 1;
+    }
+    // A level has at most four times the vertices of the one before it (each refined face
+    // splits into four): stop where the next one could pass the limit, or adds nothing.
+    const int deepest = refiner.GetMaxLevel();
+    const size_t last = static_cast<size_t>(refiner.GetLevel(deepest).GetNumVertices());
+    if (deepest < level || total + 4 * last > max_points) return level;
+  }
+  return max_isolation;
+}
+
+}  // namespace
+
 extern "C" int surfkit_osd_patches_create(const surfkit_osd_topology* topology,
-                                          int max_isolation, surfkit_osd_patches** out,
+                                          int max_isolation,
+                                          const surfkit_osd_patch_limits* limits,
+                                          surfkit_osd_patches** out,
                                           surfkit_osd_patch_counts* counts, char** error) {
-  return guarded(error, [&]() -> std::string {
-    if (!out || !counts) return "null output pointer";
+  bool over_budget = false;
+  const int status = guarded(error, [&]() -> std::string {
+    if (!out || !counts || !limits) return "null pointer";
     *out = nullptr;
     if (max_isolation < 1 || max_isolation > 10) return "max_isolation must be 1..=10";
     auto result = std::make_unique<surfkit_osd_patches>();
@@ -291,42 +339,41 @@ extern "C" int surfkit_osd_patches_create(const surfkit_osd_topology* topology,
     if (!result->refiner) return why;
     Far::TopologyRefiner& refiner = *result->refiner;
 
-    Far::PatchTableFactory::Options popt(max_isolation);
-    popt.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_BSPLINE_BASIS);
-    popt.SetPatchPrecision<double>();
-    popt.generateVaryingTables = false;
-    popt.generateVaryingLocalPoints = false;
-    refiner.RefineAdaptive(popt.GetRefineAdaptiveOptions());
-
-    // Stencils of every refined vertex (all levels) in terms of the control vertices.
-    Far::StencilTableFactoryReal<double>::Options sopt;
-    sopt.generateIntermediateLevels = true;
-    sopt.generateOffsets = true;
-    sopt.generateControlVerts = false;
-    std::unique_ptr<const Far::StencilTableReal<double>> refined(
-        Far::StencilTableFactoryReal<double>::Create(refiner, sopt));
-    if (!refined) return "StencilTableFactory::Create failed: " + last_osd_error;
-
+    const int isolation = refine_within(refiner, max_isolation, limits->max_refined_points);
+    if (isolation == 0) {
+      over_budget = true;
+      return "refining once adaptively makes more than " +
+             std::to_string(limits->max_refined_points) + " vertices";
+    }
+    const Far::PatchTableFactory::Options popt = patch_options(isolation);
     result->table.reset(Far::PatchTableFactory::Create(refiner, popt));
     if (!result->table) return "PatchTableFactory::Create failed: " + last_osd_error;
     const Far::PatchTable& table = *result->table;
 
+    // Stencils of every refined vertex (all levels), then of the local points, in terms of
+    // the control vertices; int indices on the Rust side bound the total.
+    const int ncv = refiner.GetLevel(0).GetNumVertices();
+    const size_t budget = std::min(limits->max_stencil_weights, static_cast<size_t>(INT_MAX));
+    result->stencils = std::make_unique<surfkit_osd::StencilComposer>(ncv, budget);
+    surfkit_osd::StencilComposer& st = *result->stencils;
+    why = st.add_refined_levels(refiner);
+    if (!why.empty()) return why;
     const Far::StencilTableReal<double>* local = table.GetLocalPointStencilTable<double>();
-    if (local && local->GetNumStencils() > 0) {
-      result->stencils.reset(Far::StencilTableFactoryReal<double>::AppendLocalPointStencilTable(
-          refiner, refined.get(), local));
-      if (!result->stencils) return "AppendLocalPointStencilTable failed: " + last_osd_error;
-    } else {
-      result->stencils = std::move(refined);
+    if (!st.over_budget() && local && local->GetNumStencils() > 0) {
+      why = st.add_local_points(*local);
+      if (!why.empty()) return why;
+    }
+    if (st.over_budget()) {
+      over_budget = true;
+      return "the limit surface at isolation level " + std::to_string(isolation) +
+             " needs more than " + std::to_string(budget) + " stencil weights";
     }
 
-    result->num_control_vertices = refiner.GetLevel(0).GetNumVertices();
+    result->num_control_vertices = ncv;
     result->num_patch_points = refiner.GetNumVerticesTotal() + table.GetNumLocalPoints();
-    if (result->stencils->GetNumStencils() !=
-        result->num_patch_points - result->num_control_vertices)
-      return "stencil count " + std::to_string(result->stencils->GetNumStencils()) +
-             " does not match the patch points " +
-             std::to_string(result->num_patch_points - result->num_control_vertices);
+    if (static_cast<int>(st.stencil_count()) != result->num_patch_points - ncv)
+      return "stencil count " + std::to_string(st.stencil_count()) +
+             " does not match the patch points " + std::to_string(result->num_patch_points - ncv);
 
     for (int a = 0, global = 0; a < table.GetNumPatchArrays(); ++a) {
       Far::PatchDescriptor d = table.GetPatchArrayDescriptor(a);
@@ -340,26 +387,16 @@ extern "C" int surfkit_osd_patches_create(const surfkit_osd_topology* topology,
         result->handles.push_back(h);
       }
     }
-    // Stencils are exported packed, in order: count the entries from their sizes (the
-    // table's own vectors may hold more than its stencils use).
-    const auto& st = *result->stencils;
-    const int ns = st.GetNumStencils();
-    size_t entries = 0;
-    for (int k = 0; k < ns; ++k) {
-      const size_t end = static_cast<size_t>(st.GetOffsets()[k]) + st.GetSizes()[k];
-      if (end > st.GetControlIndices().size() || end > st.GetWeights().size())
-        return "stencil " + std::to_string(k) + " runs past the stencil table";
-      entries += st.GetSizes()[k];
-    }
-    result->num_stencil_entries = entries;
     counts->num_patches = static_cast<int>(result->handles.size());
     counts->num_ptex_faces = table.GetNumPtexFaces();
     counts->num_control_vertices = result->num_control_vertices;
     counts->num_patch_points = result->num_patch_points;
-    counts->num_stencil_weights = static_cast<int>(entries);
+    counts->num_stencil_weights = static_cast<int>(st.indices.size());
+    counts->isolation = isolation;
     *out = result.release();
     return "";
   });
+  return over_budget ? 3 : status;
 }
 
 extern "C" int surfkit_osd_patches_copy(const surfkit_osd_patches* r,
@@ -386,21 +423,10 @@ extern "C" int surfkit_osd_patches_copy(const surfkit_osd_patches* r,
     for (int f = 0; f < nf; ++f) a->ptex_of_face[f] = ptex.GetFaceId(f);
     a->ptex_of_face[nf] = ptex.GetNumFaces();
     const auto& st = *r->stencils;
-    const int ns = st.GetNumStencils();
-    const auto& sizes = st.GetSizes();
-    const auto& offsets = st.GetOffsets();
-    const auto& indices = st.GetControlIndices();
-    const auto& weights = st.GetWeights();
-    int packed = 0;
-    for (int s = 0; s < ns; ++s) {
-      a->stencil_offsets[s] = packed;
-      std::copy(indices.begin() + offsets[s], indices.begin() + offsets[s] + sizes[s],
-                a->stencil_indices + packed);
-      std::copy(weights.begin() + offsets[s], weights.begin() + offsets[s] + sizes[s],
-                a->stencil_weights + packed);
-      packed += sizes[s];
-    }
-    a->stencil_offsets[ns] = packed;
+    const size_t ns = st.stencil_count();
+    for (size_t k = 0; k <= ns; ++k) a->stencil_offsets[k] = static_cast<int>(st.offsets[k]);
+    std::copy(st.indices.begin(), st.indices.end(), a->stencil_indices);
+    std::copy(st.weights.begin(), st.weights.end(), a->stencil_weights);
     return "";
   });
 }

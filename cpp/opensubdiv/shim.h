@@ -8,6 +8,8 @@
 #ifndef SURFKIT_OSD_SHIM_H
 #define SURFKIT_OSD_SHIM_H
 
+#include <stddef.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -86,7 +88,14 @@ typedef struct surfkit_osd_patch_counts {
   int num_patch_points;      /* size of the point index space of patch_points (all levels +
                                 local points); indices >= num_control_vertices have stencils */
   int num_stencil_weights;   /* total entries of the stencils */
+  int isolation;             /* the isolation level used (<= max_isolation, see the limits) */
 } surfkit_osd_patch_counts;
+
+/* What a patch table may hold: refined vertices (all levels) and stencil entries. */
+typedef struct surfkit_osd_patch_limits {
+  size_t max_refined_points;
+  size_t max_stencil_weights;
+} surfkit_osd_patch_limits;
 
 /* Arrays the caller allocates from the counts (every pointer required). */
 typedef struct surfkit_osd_patch_arrays {
@@ -100,14 +109,18 @@ typedef struct surfkit_osd_patch_arrays {
   double* size;          /* per patch: side length of its square */
   int* ptex_of_face;     /* num_faces + 1 offsets: ptex faces of base face f */
   int* stencil_offsets;  /* num_patch_points - num_control_vertices + 1 offsets */
-  int* stencil_indices;  /* num_stencil_weights control-vertex indices */
+  int* stencil_indices;  /* num_stencil_weights point indices: refined vertices' stencils are
+                            on control vertices, local points' on any earlier point */
   double* stencil_weights;
 } surfkit_osd_patch_arrays;
 
-/* Refines adaptively up to max_isolation (1..=10) and builds the patch table with
+/* Refines adaptively up to max_isolation (1..=10), lower where more levels would pass
+ * limits->max_refined_points (counts->isolation says which), and builds the patch table with
  * ENDCAP_BSPLINE_BASIS end caps in double precision, plus the stencils of every patch point
- * in terms of the control vertices. */
+ * beyond the control vertices (see stencil_indices). Returns 3 (nothing kept) when even
+ * level 1 passes max_refined_points or the stencils would pass max_stencil_weights. */
 int surfkit_osd_patches_create(const surfkit_osd_topology* topology, int max_isolation,
+                               const surfkit_osd_patch_limits* limits,
                                surfkit_osd_patches** out, surfkit_osd_patch_counts* counts,
                                char** error);
 

@@ -13,6 +13,7 @@ use crate::fair::{
     BlockOptions, EndCaps, FairOptions, FairReport, Iteration, LevelReport, LmMatrix, QDomain,
     RepresentationOptions, ShapeChange, DEFAULT_C_SPECIAL,
 };
+use crate::limits::MemoryBudget;
 use crate::mesh::io::{read, write, WriteOptions};
 use crate::mesh::PolygonMesh;
 use crate::report::{color_range, render_png, RenderOptions};
@@ -208,7 +209,7 @@ impl Progress {
 }
 
 /// The options of `surfkit fair` (and the demo, which uses the defaults).
-fn options(args: &FairArgs) -> FairOptions {
+fn options(args: &FairArgs, memory: MemoryBudget) -> FairOptions {
     let mut options = FairOptions {
         representation: RepresentationOptions {
             nodes: args.nodes,
@@ -224,6 +225,7 @@ fn options(args: &FairArgs) -> FairOptions {
             } else {
                 QDomain::Patch
             },
+            memory,
             ..RepresentationOptions::default()
         },
         max_refinements: args.max_refinements,
@@ -289,13 +291,13 @@ pub(super) fn optimize_with_progress(
     })
 }
 
-pub fn run(args: &FairArgs) -> crate::Result<()> {
+pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<()> {
     super::check_paths(
         &[Some(&args.input), args.fixed.as_deref()],
         &[Some(&args.output), args.samples.as_deref()],
     )?;
     let mesh = read(&args.input)?;
-    let mut options = options(args);
+    let mut options = options(args, memory);
     if let Some(path) = &args.fixed {
         options.fixed = read_fixed(path, mesh.vertex_count())?;
     }

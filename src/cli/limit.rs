@@ -5,6 +5,7 @@
 
 use std::path::PathBuf;
 
+use crate::limits::MemoryBudget;
 use crate::mesh::io::{read, write, WriteOptions};
 use crate::subdiv::{limit_surface, sample_limit, PatchOptions, SampleOptions, SubdivOptions};
 
@@ -35,7 +36,7 @@ pub struct LimitArgs {
     pub json: bool,
 }
 
-pub fn run(args: &LimitArgs) -> crate::Result<()> {
+pub fn run(args: &LimitArgs, memory: MemoryBudget) -> crate::Result<()> {
     super::check_paths(
         &[Some(&args.input)],
         &[Some(&args.output), args.png.as_deref()],
@@ -50,8 +51,19 @@ pub fn run(args: &LimitArgs) -> crate::Result<()> {
         &options,
         &PatchOptions {
             max_isolation: args.max_isolation,
+            memory,
         },
     )?;
+    if surface.isolation() < args.max_isolation {
+        eprintln!(
+            "surfkit: note: isolation lowered from {} to {} to stay under the memory limit of \
+             {memory} (--max-memory): near extraordinary vertices the surface is the level-{} \
+             approximation",
+            args.max_isolation,
+            surface.isolation(),
+            surface.isolation()
+        );
+    }
     let sampled = sample_limit(
         &surface,
         &SampleOptions {
@@ -76,6 +88,7 @@ pub fn run(args: &LimitArgs) -> crate::Result<()> {
         let report = serde_json::json!({
             "input": args.input, "output": args.output, "picture": png,
             "patches": surface.patches().len(), "regular_patches": regular,
+            "isolation": surface.isolation(),
             "ptex_faces": surface.ptex_face_count(),
             "samples": samples.vertex_count(),
             "degenerate_samples": sampled.degenerate.len(),

@@ -32,6 +32,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use crate::limits::MemoryBudget;
+
 /// surfkit — the quality of surface models: topology checks, spline hole filling,
 /// subdivision and fairing, cross-checked with OpenMesh, OpenSubdiv, MeshLab and CGAL.
 #[derive(Parser, Debug)]
@@ -39,6 +41,11 @@ use clap::{Parser, Subcommand};
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Memory one command may plan to use (e.g. 512M, 12G): work that would need more is
+    /// refused, or done at a coarser level where the command says so. Default: half of the
+    /// machine's memory.
+    #[arg(long, global = true, value_name = "SIZE", value_parser = MemoryBudget::parse)]
+    max_memory: Option<MemoryBudget>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -77,17 +84,18 @@ enum Generate {
 /// Runs the command line; errors are printed as one line naming the file and the problem.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    let budget = cli.max_memory.unwrap_or_default();
     let result = match &cli.command {
         Command::Info(a) => info::run(a),
         Command::Convert(a) => convert::run(a),
         Command::Demo(a) => demo::run(a),
         Command::Eat(a) => eat::run(a),
         Command::Subdivide(a) => subdivide::run(a).map(|()| ExitCode::SUCCESS),
-        Command::Limit(a) => limit::run(a).map(|()| ExitCode::SUCCESS),
+        Command::Limit(a) => limit::run(a, budget).map(|()| ExitCode::SUCCESS),
         Command::Fill(a) => fill::run(a).map(|()| ExitCode::SUCCESS),
         Command::Fit(a) => fit::run(a).map(|()| ExitCode::SUCCESS),
         Command::Paper(a) => paper::run(a).map(|()| ExitCode::SUCCESS),
-        Command::Fair(a) => fair::run(a).map(|()| ExitCode::SUCCESS),
+        Command::Fair(a) => fair::run(a, budget).map(|()| ExitCode::SUCCESS),
         Command::Gen(Generate::Tubes(a)) => fair::run_tubes(a).map(|()| ExitCode::SUCCESS),
     };
     match result {

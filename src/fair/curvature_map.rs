@@ -26,6 +26,7 @@ pub fn curvature_samples(mesh: &PolygonMesh, samples: u32, isolation: u32) -> Re
         &options,
         &PatchOptions {
             max_isolation: isolation,
+            ..Default::default()
         },
     )?;
     sample_limit(&surface, &SampleOptions { samples })

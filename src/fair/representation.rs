@@ -6,6 +6,7 @@
 
 use crate::error::{Error, Result};
 use crate::fair::quadrature::gauss_legendre;
+use crate::limits::MemoryBudget;
 use crate::mesh::PolygonMesh;
 use crate::subdiv::{cubic_basis, limit_surface, PatchOptions, PatchSurface, SubdivOptions};
 
@@ -103,6 +104,10 @@ pub struct RepresentationOptions {
     pub c_special: f64,
     pub end_caps: EndCaps,
     pub q_domain: QDomain,
+    /// What the patch table may take; a representation that would need more at
+    /// `isolation` is refused with [`Error::ResourceLimit`] (never silently coarsened: the
+    /// functional depends on the level).
+    pub memory: MemoryBudget,
 }
 
 impl Default for RepresentationOptions {
@@ -114,6 +119,7 @@ impl Default for RepresentationOptions {
             c_special: DEFAULT_C_SPECIAL,
             end_caps: EndCaps::ExcludeFromS,
             q_domain: QDomain::Patch,
+            memory: MemoryBudget::default(),
         }
     }
 }
@@ -167,8 +173,20 @@ impl PatchRepresentation {
             &SubdivOptions::default(),
             &PatchOptions {
                 max_isolation: options.isolation,
+                memory: options.memory,
             },
         )?;
+        if surface.isolation() < options.isolation {
+            return Err(Error::ResourceLimit {
+                what: format!(
+                    "the limit surface of {} vertices at isolation level {}",
+                    mesh.vertex_count(),
+                    options.isolation
+                ),
+                limit: options.memory.get(),
+                advice: format!("--isolation {} fits", surface.isolation()),
+            });
+        }
         let internal: Vec<bool> = mesh
             .faces()
             .map(|f| f.iter().all(|&v| !boundary[v as usize]))

@@ -21,6 +21,9 @@ mod raw {
 const LIBRARY: &str = "OpenSubdiv";
 
 /// Turns a shim status and message into a `Result`, freeing the message once.
+/// Status of `surfkit_osd_patches_create` when the stencils would pass their budget.
+const OVER_BUDGET: i32 = 3;
+
 fn check(status: i32, message: *mut c_char) -> Result<()> {
     let text = if message.is_null() {
         None
@@ -230,8 +233,16 @@ impl Drop for PatchTable {
 }
 
 impl PatchTable {
-    /// Builds the table by adaptive refinement to `max_isolation` (1..=10).
-    pub fn new(topology: &Topology, max_isolation: i32) -> Result<PatchTable> {
+    /// Builds the table by adaptive refinement to `max_isolation` (1..=10), or to the highest
+    /// level whose refined vertices stay within `max_refined_points`
+    /// ([`PatchTable::isolation`]); `None` when even level 1 passes that or the stencils
+    /// would pass `max_stencil_weights` entries (nothing is kept).
+    pub fn new(
+        topology: &Topology,
+        max_isolation: i32,
+        max_refined_points: usize,
+        max_stencil_weights: usize,
+    ) -> Result<Option<PatchTable>> {
         let t = topology.raw()?;
         let mut handle = ptr::null_mut();
         let mut counts = raw::surfkit_osd_patch_counts {
@@ -240,14 +251,35 @@ impl PatchTable {
             num_control_vertices: 0,
             num_patch_points: 0,
             num_stencil_weights: 0,
+            isolation: 0,
+        };
+        let limits = raw::surfkit_osd_patch_limits {
+            max_refined_points,
+            max_stencil_weights,
         };
         let mut msg = ptr::null_mut();
         // SAFETY: `t` borrows live slices of checked lengths; out pointers valid.
         let status = unsafe {
-            raw::surfkit_osd_patches_create(&t, max_isolation, &mut handle, &mut counts, &mut msg)
+            raw::surfkit_osd_patches_create(
+                &t,
+                max_isolation,
+                &limits,
+                &mut handle,
+                &mut counts,
+                &mut msg,
+            )
         };
+        if status == OVER_BUDGET {
+            check(0, msg)?; // frees the message
+            return Ok(None);
+        }
         check(status, msg)?;
-        Ok(PatchTable { handle, counts })
+        Ok(Some(PatchTable { handle, counts }))
+    }
+
+    /// The isolation level the table was built with.
+    pub fn isolation(&self) -> u32 {
+        self.counts.isolation as u32
     }
 
     /// Copies the table's arrays out in one call.

@@ -2,7 +2,9 @@
 //! `Far::PatchTable` with `ENDCAP_BSPLINE_BASIS` end caps, in doubles.
 //!
 //! Every patch has 16 control points, each a fixed linear combination (a stencil) of the
-//! control mesh's vertices. Patches touching a boundary carry a boundary mask: OpenSubdiv
+//! control mesh's vertices. Refined vertices carry their stencil on the control vertices;
+//! end-cap points carry theirs on earlier points (refined vertices), which keeps the table
+//! linear in size around a vertex of high valence. Patches touching a boundary carry a boundary mask: OpenSubdiv
 //! stores only the points on the surface's side and folds the missing "phantom" row or
 //! column into the weights when it evaluates. [`PatchSurface::patch_weights`] reproduces
 //! those phantom points (a boundary row `P₀ = 2 P₁ − P₂`, applied left, top, right, bottom
@@ -13,10 +15,12 @@
 //! split into n quads, each its own ptex face ([`PatchSurface::ptex_faces`]). A patch covers
 //! the square `[u0, u0 + size] × [v0, v0 + size]` of its ptex face.
 
+use std::collections::BTreeMap;
 use std::ops::Range;
 
 use crate::error::{Error, Result};
 use crate::ffi::opensubdiv as ffi;
+use crate::limits::MemoryBudget;
 use crate::mesh::PolygonMesh;
 use crate::subdiv::bspline::{eval_patch, Derivatives};
 use crate::subdiv::topology::ControlMesh;
@@ -29,13 +33,30 @@ pub struct PatchOptions {
     /// (1..=10). Higher isolates irregular features into smaller end-cap patches: more
     /// patches, closer to the true limit surface near extraordinary vertices.
     pub max_isolation: u32,
+    /// What the patch table may take. Where the refined vertices of `max_isolation` would
+    /// pass it, the isolation stops at a lower level ([`PatchSurface::isolation`] says
+    /// which); where even level 1 or the stencils would pass it, the build fails with
+    /// [`Error::ResourceLimit`].
+    pub memory: MemoryBudget,
 }
 
 impl Default for PatchOptions {
     fn default() -> Self {
-        PatchOptions { max_isolation: 4 }
+        PatchOptions {
+            max_isolation: 4,
+            memory: MemoryBudget::default(),
+        }
     }
 }
+
+/// Bytes one stencil weight takes while the table is built: an index and a weight in the
+/// shim, copied once more into [`ffi::PatchData`].
+const BYTES_PER_STENCIL_WEIGHT: u64 = 2 * (4 + 8);
+
+/// Bytes per refined vertex of OpenSubdiv's refiner and patch table and of the surface's
+/// points and patches (measured: a 100k-triangle grid at isolation 4, 17.8 M refined points
+/// and 185 M stencil weights, peaked at 11.3 GB).
+const BYTES_PER_REFINED_POINT: u64 = 320;
 
 /// One bicubic B-spline patch of the limit surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -77,6 +98,7 @@ pub struct PatchSurface {
     /// Patches of each ptex face.
     patches_of_ptex: Vec<Vec<u32>>,
     table: ffi::PatchTable,
+    isolation: u32,
 }
 
 /// Builds the limit surface of `mesh` with `options`' sharp features and rules.
@@ -101,7 +123,36 @@ pub fn limit_surface(
         )));
     }
     let control = ControlMesh::new(mesh, options, false)?;
-    let table = ffi::PatchTable::new(&control.topology(), patch_options.max_isolation as i32)?;
+    let topology = control.topology();
+    // Half of the budget for the refined points, half for the stencils.
+    let half = MemoryBudget::bytes(patch_options.memory.get() / 2);
+    let max_points = usize::try_from(half.items(BYTES_PER_REFINED_POINT)).unwrap_or(usize::MAX);
+    let max_weights = usize::try_from(half.items(BYTES_PER_STENCIL_WEIGHT)).unwrap_or(usize::MAX);
+    // The shim stops refining where the points would pass their limit; where the stencils
+    // do, try lower levels (fewer levels do not always mean fewer weights: end caps at a low
+    // level carry more than the regular patches of a higher one).
+    let mut isolation = patch_options.max_isolation;
+    let table = loop {
+        match ffi::PatchTable::new(&topology, isolation as i32, max_points, max_weights)? {
+            Some(table) => break table,
+            None if isolation > 1 => isolation -= 1,
+            None => {
+                return Err(Error::ResourceLimit {
+                    what: format!(
+                        "the limit surface of {} vertices and {} faces",
+                        mesh.vertex_count(),
+                        mesh.face_count()
+                    ),
+                    limit: patch_options.memory.get(),
+                    advice: format!(
+                        "at no isolation level do its refinement and stencils fit in \
+                         {max_points} refined vertices and {max_weights} stencil weights"
+                    ),
+                })
+            }
+        }
+    };
+    let isolation = table.isolation();
     let data = table.data(control.face_count())?;
     let ncv = data.num_control_vertices;
     if ncv != mesh.vertex_count() || data.stencil_offsets.len() != data.num_patch_points - ncv + 1 {
@@ -115,14 +166,18 @@ pub fn limit_surface(
         .patch_points
         .iter()
         .all(|&i| i < data.num_patch_points as i32);
-    let stencils_ok = data
-        .stencil_indices
-        .iter()
-        .all(|&i| i >= 0 && (i as usize) < ncv)
-        && data
-            .stencil_offsets
-            .windows(2)
-            .all(|w| 0 <= w[0] && w[0] <= w[1])
+    // A stencil refers to control vertices or to points before its own.
+    let stencils_ok = data.stencil_offsets.windows(2).enumerate().all(|(s, w)| {
+        0 <= w[0]
+            && w[0] <= w[1]
+            && (w[1] as usize) <= data.stencil_indices.len()
+            && data.stencil_indices[w[0] as usize..w[1] as usize]
+                .iter()
+                .all(|&i| i >= 0 && (i as usize) < ncv + s)
+    }) && data
+        .stencil_offsets
+        .windows(2)
+        .all(|w| 0 <= w[0] && w[0] <= w[1])
         && data.stencil_offsets.last().map(|&o| o as usize) == Some(data.stencil_indices.len());
     let ptex_ok = data
         .ptex_face
@@ -173,6 +228,7 @@ pub fn limit_surface(
         data,
         patches_of_ptex,
         table,
+        isolation,
     };
     surface.update_points();
     Ok(surface)
@@ -216,7 +272,7 @@ impl PatchSurface {
             );
             let mut p = [0.0; 3];
             for e in a..b {
-                let q = self.control_points[d.stencil_indices[e] as usize];
+                let q = pts[d.stencil_indices[e] as usize];
                 let w = d.stencil_weights[e];
                 for k in 0..3 {
                     p[k] += w * q[k];
@@ -225,6 +281,12 @@ impl PatchSurface {
             pts.push(p);
         }
         self.point_positions = pts;
+    }
+
+    /// The isolation level the table was built with: `max_isolation`, or lower when the
+    /// memory budget did not allow it.
+    pub fn isolation(&self) -> u32 {
+        self.isolation
     }
 
     /// The patches, in OpenSubdiv's order.
@@ -302,17 +364,22 @@ impl PatchSurface {
             if phantom[k] {
                 continue;
             }
-            let id = self.patch_points[16 * p + k] as usize;
-            if id < ncv {
-                row.push((id as u32, 1.0));
-            } else {
+            // Expand through points with stencils down to control vertices, latest point
+            // first: stencils refer to earlier points only, so each point is expanded once
+            // with its whole weight.
+            let mut pending = BTreeMap::from([(self.patch_points[16 * p + k] as usize, 1.0)]);
+            while let Some((id, w)) = pending.pop_last() {
+                if id < ncv {
+                    row.push((id as u32, w));
+                    continue;
+                }
                 let s = id - ncv;
-                let (a, b) = (
-                    d.stencil_offsets[s] as usize,
-                    d.stencil_offsets[s + 1] as usize,
-                );
-                row.extend((a..b).map(|e| (d.stencil_indices[e] as u32, d.stencil_weights[e])));
+                for e in d.stencil_offsets[s] as usize..d.stencil_offsets[s + 1] as usize {
+                    *pending.entry(d.stencil_indices[e] as usize).or_insert(0.0) +=
+                        w * d.stencil_weights[e];
+                }
             }
+            row.reverse();
         }
         let mut out = rows;
         fill_phantoms(patch.boundary_mask, &mut out, |a, b| {

@@ -1,0 +1,161 @@
+//! The limit surface around vertices of high valence and under a memory limit: the apex of
+//! a cone fan (valence up to 1000, which OpenSubdiv's own stencil factory could not build in
+//! minutes) against the Catmull–Clark limit-position formula, and the memory budget lowering
+//! the isolation level or refusing the surface.
+
+use surfkit::limits::MemoryBudget;
+use surfkit::mesh::PolygonMesh;
+use surfkit::subdiv::{limit_surface, refine_uniform, PatchOptions, SubdivOptions, SurfacePoint};
+use surfkit::Error;
+
+/// A cone of `n` triangles around an apex above a circle (an open fan: the circle is the
+/// boundary).
+fn cone(n: u32) -> PolygonMesh {
+    let mut positions = vec![[0.0, 0.0, 1.0]];
+    for i in 0..n {
+        let a = std::f64::consts::TAU * f64::from(i) / f64::from(n);
+        // An uneven radius, so that the apex's limit is not fixed by symmetry alone.
+        let r = 1.0 + 0.3 * (3.0 * a).cos();
+        positions.push([r * a.cos(), r * a.sin(), 0.2 * (2.0 * a).sin()]);
+    }
+    let faces: Vec<[u32; 3]> = (0..n).map(|i| [0, i + 1, (i + 1) % n + 1]).collect();
+    PolygonMesh::from_polygons(positions, &faces)
+}
+
+/// Limit position of vertex `v` of an all-quad mesh (Halstead et al. 1993):
+/// (n² v + 4 Σ eᵢ + Σ fᵢ) / (n (n + 5)), eᵢ its edge neighbours, fᵢ the opposite corners of
+/// its quads.
+fn limit_position_formula(mesh: &PolygonMesh, v: u32) -> [f64; 3] {
+    let mut edge_neighbours = std::collections::BTreeSet::new();
+    let mut opposite = Vec::new();
+    for f in mesh.faces().filter(|f| f.contains(&v)) {
+        assert_eq!(f.len(), 4, "refined faces are quads");
+        let k = f.iter().position(|&c| c == v).unwrap();
+        edge_neighbours.insert(f[(k + 1) % 4]);
+        edge_neighbours.insert(f[(k + 3) % 4]);
+        opposite.push(f[(k + 2) % 4]);
+    }
+    let n = opposite.len() as f64;
+    assert_eq!(edge_neighbours.len(), opposite.len(), "an interior vertex");
+    let p = |i: u32| mesh.positions[i as usize];
+    let mut out = [0.0; 3];
+    for k in 0..3 {
+        let e: f64 = edge_neighbours.iter().map(|&i| p(i)[k]).sum();
+        let f: f64 = opposite.iter().map(|&i| p(i)[k]).sum();
+        out[k] = (n * n * p(v)[k] + 4.0 * e + f) / (n * (n + 5.0));
+    }
+    out
+}
+
+#[test]
+fn apex_of_cones_up_to_valence_1000_is_the_limit_position_formula() {
+    for n in [5, 64, 1000] {
+        let mesh = cone(n);
+        let options = SubdivOptions::default();
+        let surface = limit_surface(&mesh, &options, &PatchOptions::default()).unwrap();
+        assert_eq!(
+            surface.isolation(),
+            4,
+            "valence {n}: the default isolation fits"
+        );
+        // Ptex face 0 of triangle 0 has its (0, 0) corner at the triangle's first corner,
+        // the apex.
+        let ptex = surface.ptex_faces(0).unwrap().start;
+        let at = SurfacePoint {
+            ptex_face: ptex,
+            u: 0.0,
+            v: 0.0,
+        };
+        let got = surface.evaluate(&[at]).unwrap()[0].position;
+        // One uniform level makes every face a quad and keeps the limit surface; the apex
+        // is the refined vertex of valence n.
+        let refined = refine_uniform(&mesh, 1, &options).unwrap();
+        let mut valence = vec![0usize; refined.vertex_count()];
+        for f in refined.faces() {
+            for &c in f {
+                valence[c as usize] += 1;
+            }
+        }
+        let apex = valence.iter().position(|&k| k == n as usize).unwrap() as u32;
+        let want = limit_position_formula(&refined, apex);
+        for k in 0..3 {
+            assert!(
+                (got[k] - want[k]).abs() < 1e-12,
+                "valence {n}, coordinate {k}: patch table {} vs formula {}",
+                got[k],
+                want[k]
+            );
+        }
+    }
+}
+
+/// A triangulated grid: after one level every vertex is extraordinary, so each further
+/// isolation level refines the whole mesh again.
+fn triangle_grid(m: u32) -> PolygonMesh {
+    let mut positions = Vec::new();
+    for j in 0..=m {
+        for i in 0..=m {
+            positions.push([f64::from(i), f64::from(j), 0.1 * f64::from((i * j) % 3)]);
+        }
+    }
+    let id = |i: u32, j: u32| j * (m + 1) + i;
+    let mut faces = Vec::new();
+    for j in 0..m {
+        for i in 0..m {
+            faces.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            faces.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    PolygonMesh::from_polygons(positions, &faces)
+}
+
+#[test]
+fn a_memory_limit_lowers_the_isolation_or_refuses_with_the_limit() {
+    let mesh = triangle_grid(24);
+    let options = SubdivOptions::default();
+    let with = |bytes: u64| {
+        limit_surface(
+            &mesh,
+            &options,
+            &PatchOptions {
+                max_isolation: 4,
+                memory: MemoryBudget::bytes(bytes),
+            },
+        )
+    };
+    let full = with(1 << 34).unwrap();
+    assert_eq!(full.isolation(), 4);
+    // With 48 MiB the stencils of level 4 do not fit (measured: neither do level 3's).
+    let lowered = with(48 << 20).unwrap();
+    assert!(
+        (1..4).contains(&lowered.isolation()),
+        "{}",
+        lowered.isolation()
+    );
+    // The lowered surface is still the limit surface wherever its patches are regular (end
+    // caps approximate it), so compare at a regular patch's centre.
+    let regular = lowered
+        .patches()
+        .iter()
+        .find(|p| p.regular)
+        .expect("a regular patch");
+    let at = SurfacePoint {
+        ptex_face: regular.ptex_face,
+        u: regular.u0 + 0.5 * regular.size,
+        v: regular.v0 + 0.5 * regular.size,
+    };
+    let a = full.evaluate(&[at]).unwrap()[0].position;
+    let b = lowered.evaluate(&[at]).unwrap()[0].position;
+    for k in 0..3 {
+        assert!((a[k] - b[k]).abs() < 1e-12, "{a:?} vs {b:?}");
+    }
+    match with(1 << 20) {
+        Err(e @ Error::ResourceLimit { .. }) => {
+            let text = e.to_string();
+            assert!(text.contains("memory limit of 1.0 MiB"), "{text}");
+            assert!(text.contains("--max-memory"), "{text}");
+        }
+        Err(e) => panic!("wrong error: {e}"),
+        Ok(s) => panic!("1 MiB accepted at isolation {}", s.isolation()),
+    }
+}
