@@ -38,13 +38,11 @@ fn limit_position_formula(mesh: &PolygonMesh, v: u32) -> [f64; 3] {
     let n = opposite.len() as f64;
     assert_eq!(edge_neighbours.len(), opposite.len(), "an interior vertex");
     let p = |i: u32| mesh.positions[i as usize];
-    let mut out = [0.0; 3];
-    for k in 0..3 {
+    std::array::from_fn(|k| {
         let e: f64 = edge_neighbours.iter().map(|&i| p(i)[k]).sum();
         let f: f64 = opposite.iter().map(|&i| p(i)[k]).sum();
-        out[k] = (n * n * p(v)[k] + 4.0 * e + f) / (n * (n + 5.0));
-    }
-    out
+        (n * n * p(v)[k] + 4.0 * e + f) / (n * (n + 5.0))
+    })
 }
 
 #[test]
