@@ -378,3 +378,106 @@ fn absurd_sizes_are_refused_before_any_work_with_the_option_named() {
         assert!(!out.exists(), "{args:?} wrote its output");
     }
 }
+
+/// A cone of `n` triangles around one apex (valence n), written to `dir`.
+fn fan(dir: &Path, n: usize) -> PathBuf {
+    let mut text = String::from("v 0 0 1\n");
+    for i in 0..n {
+        let a = std::f64::consts::TAU * i as f64 / n as f64;
+        text.push_str(&format!("v {} {} 0\n", a.cos(), a.sin()));
+    }
+    for i in 0..n {
+        text.push_str(&format!("f 1 {} {}\n", i + 2, (i + 1) % n + 2));
+    }
+    let path = dir.join("fan.obj");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn small_inputs_that_imply_huge_work_are_done_linearly_or_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    // One face of 200 000 corners: info and eat see one face, one boundary loop.
+    let n = 200_000;
+    let mut text = String::new();
+    for i in 0..n {
+        let a = std::f64::consts::TAU * i as f64 / n as f64;
+        text.push_str(&format!("v {:.9} {:.9} 0\n", a.cos(), a.sin()));
+    }
+    text.push('f');
+    for i in 1..=n {
+        text.push_str(&format!(" {i}"));
+    }
+    text.push('\n');
+    let big = dir.path().join("big_face.obj");
+    std::fs::write(&big, text).unwrap();
+    let out = surfkit().arg("info").arg(&big).output().unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json = surfkit()
+        .args(["eat", "--json"])
+        .arg(&big)
+        .output()
+        .unwrap();
+    let report: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    let counts = &report["report"]["counts"];
+    assert_eq!(counts["vertices_referenced"], n, "{counts}");
+    assert_eq!(counts["facets"], 1, "{counts}");
+    assert_eq!(counts["edges"], n, "{counts}");
+    assert_eq!(counts["boundary_loops"], 1, "{counts}");
+
+    // A fan of valence 1000: the limit surface is built at the full isolation level...
+    let mesh = fan(dir.path(), 1000);
+    let limit = dir.path().join("limit.ply");
+    let out = surfkit()
+        .arg("limit")
+        .arg(&mesh)
+        .arg("-o")
+        .arg(&limit)
+        .args(["--samples", "1", "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["isolation"], 4, "{report}");
+    // ...and fairing, whose work grows as the cube of the valence, refuses it up front.
+    let faired = dir.path().join("faired.obj");
+    let out = surfkit()
+        .arg("fair")
+        .arg(&mesh)
+        .arg("-o")
+        .arg(&faired)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out)
+            .contains("vertex 0 lies in 1000 faces; fairing supports vertices of at most 64"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!faired.exists());
+    // A memory limit too small for the limit surface is an error naming the limit.
+    let out = surfkit()
+        .args(["--max-memory", "1M", "limit"])
+        .arg(&mesh)
+        .arg("-o")
+        .arg(dir.path().join("small.ply"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).contains("needs more than the memory limit of 1.0 MiB"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!dir.path().join("small.ply").exists());
+    for bad in ["12Q", "0", "-1G"] {
+        let out = surfkit()
+            .args(["info", &format!("--max-memory={bad}")])
+            .arg(&mesh)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "--max-memory {bad}");
+        assert!(stderr(&out).contains("--max-memory"), "{}", stderr(&out));
+    }
+}

@@ -52,7 +52,7 @@ pub use optimize::{
     newton, newton_observed, Iteration, LmMatrix, NewtonOptions, NewtonReport, StepKind,
 };
 pub use pcg::{multiply, pcg, CgOutcome, CgStop};
-pub use prepare::{fixed_vertices, prepare};
+pub use prepare::{fixed_vertices, prepare, MAX_FAIR_VALENCE};
 pub use quadrature::{gauss_legendre, MAX_NODES};
 pub use representation::{
     EndCaps, PatchRepresentation, QDomain, QuadraturePoint, Representation, RepresentationOptions,
