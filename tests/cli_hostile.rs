@@ -481,3 +481,85 @@ fn small_inputs_that_imply_huge_work_are_done_linearly_or_refused() {
         assert!(stderr(&out).contains("--max-memory"), "{}", stderr(&out));
     }
 }
+
+#[test]
+fn messages_name_the_file_the_option_and_the_real_problem() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("in.csv");
+    let mut data = String::from("u,v,x,y,z\n");
+    for j in 0..12 {
+        for i in 0..12 {
+            let (u, v) = (i as f64 / 11.0, j as f64 / 11.0);
+            data.push_str(&format!("{u},{v},{u},{v},{}\n", u * v));
+        }
+    }
+    std::fs::write(&csv, &data).unwrap();
+    // The same data scaled to 1e300: the sums of squares would overflow.
+    let huge = dir.path().join("huge.csv");
+    let mut scaled = String::from("u,v,x,y,z\n");
+    for line in data.lines().skip(1) {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        scaled.push_str(&format!(
+            "{},{},{:e},{:e},{:e}\n",
+            v[0],
+            v[1],
+            v[2] * 1e300,
+            v[3] * 1e300,
+            v[4] * 1e300
+        ));
+    }
+    std::fs::write(&huge, scaled).unwrap();
+    let a_file = dir.path().join("a_file");
+    std::fs::write(&a_file, "not a folder").unwrap();
+    let mesh = fan(dir.path(), 6);
+    let out = dir.path().join("out.ply");
+    let p = |p: &Path| p.to_str().unwrap().to_string();
+    for (args, status, message) in [
+        (
+            vec!["fill".into(), p(&csv), "--hole".into(), "circle:0.5,0.5,1".into()],
+            1,
+            "in.csv: invalid input: --hole \"circle:0.5,0.5,1\": unknown shape \"circle\"".to_string(),
+        ),
+        (
+            vec!["fill".into(), p(&csv), "--hole".into(), "ellipse:0.5,0.5,1".into()],
+            1,
+            "an ellipse takes 5 numbers (cx,cy,a,b,level), got 3".into(),
+        ),
+        (
+            vec!["fit".into(), p(&huge), "--output".into(), p(&out)],
+            1,
+            "huge.csv: invalid input: data point 1 (data line 2) has a coordinate of magnitude above 1e150".into(),
+        ),
+        (
+            vec!["fair".into(), p(&mesh), "-o".into(), p(&out), "--tolerance".into(), "NaN".into()],
+            2,
+            "NaN must lie strictly between 0 and 1".into(),
+        ),
+        (
+            vec!["fair".into(), p(&mesh), "-o".into(), p(&out), "--c-special=-1".into()],
+            2,
+            "-1 must be positive and finite".into(),
+        ),
+        (
+            vec!["eat".into(), p(&mesh), "--every".into(), "0".into()],
+            2,
+            "'0' for '--every <EVERY>'".into(),
+        ),
+        (
+            vec!["fair".into(), p(&mesh), "-o".into(), p(&out), "--figures".into(), p(&a_file)],
+            1,
+            "--figures ".to_string() + &p(&a_file) + ": is a file; give a folder",
+        ),
+        (
+            vec!["demo".into(), "--out".into(), p(&a_file)],
+            1,
+            "--out ".to_string() + &p(&a_file) + ": is a file; give a folder",
+        ),
+    ] {
+        let run = surfkit().args(&args).output().unwrap();
+        assert_eq!(run.status.code(), Some(status), "{args:?}: {}", stderr(&run));
+        assert!(stderr(&run).contains(&message), "{args:?}: {}", stderr(&run));
+        assert!(!out.exists(), "{args:?} wrote {}", out.display());
+    }
+    assert_eq!(std::fs::read_to_string(&a_file).unwrap(), "not a folder");
+}

@@ -31,6 +31,7 @@ pub struct DemoArgs {
 }
 
 pub fn run(args: &DemoArgs) -> crate::Result<ExitCode> {
+    super::check_folder("--out", Some(&args.out))?;
     let source = Path::new(EXAMPLE_NAME);
     let mut mesh = parse(source, EXAMPLE, Format::Obj, &ReadOptions::default())?;
     let summary = MeshSummary::of(&mesh)?;

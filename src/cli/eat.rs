@@ -27,8 +27,9 @@ pub struct EatArgs {
     /// Test points after these facet counts, e.g. 840,2410,5366.
     #[arg(long, value_delimiter = ',', conflicts_with = "stages")]
     pub test_points: Vec<usize>,
-    /// A test point every N facets.
-    #[arg(long, conflicts_with_all = ["stages", "test_points"])]
+    /// A test point every N facets (N ≥ 1).
+    #[arg(long, conflicts_with_all = ["stages", "test_points"],
+          value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
     pub every: Option<usize>,
     /// Expected χ per stage (or one value for the whole mesh), e.g. -1,0,1,2.
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true, conflicts_with_all = ["target", "reference"])]

@@ -41,7 +41,7 @@ pub struct FairArgs {
     pub nodes: usize,
     /// Cᵢ of elements at special vertices (ordinary elements: 1); smaller than 1 as the
     /// paper suggests: at 1 the regularization pulls the mesh toward the special vertices.
-    #[arg(long, default_value_t = DEFAULT_C_SPECIAL)]
+    #[arg(long, default_value_t = DEFAULT_C_SPECIAL, value_parser = super::positive_finite)]
     pub c_special: f64,
     /// Integrate S over the end caps at extraordinary vertices too.
     #[arg(long)]
@@ -50,8 +50,8 @@ pub struct FairArgs {
     /// parameters instead of their own (Q then grows with --isolation).
     #[arg(long)]
     pub q_in_face_parameters: bool,
-    /// Stop when the gradient norm falls below this fraction of its initial value.
-    #[arg(long, default_value_t = 1e-8)]
+    /// Stop when the gradient norm falls below this fraction of its initial value (0 < t < 1).
+    #[arg(long, default_value_t = 1e-8, value_parser = super::open_unit_interval)]
     pub tolerance: f64,
     /// Limit samples of the optimized surface (.ply: mean curvature as vertex quality).
     #[arg(long)]
@@ -292,6 +292,7 @@ pub(super) fn optimize_with_progress(
 }
 
 pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<()> {
+    super::check_folder("--figures", args.figures.as_deref())?;
     super::check_paths(
         &[Some(&args.input), args.fixed.as_deref()],
         &[Some(&args.output), args.samples.as_deref()],

@@ -198,21 +198,33 @@ fn numbers(s: &str, what: &str) -> Result<Vec<f64>> {
 }
 
 fn hole_shape(spec: &str) -> Result<HoleShape> {
-    let (kind, rest) = spec.split_once(':').ok_or_else(|| {
-        Error::InvalidInput(format!("hole {spec:?}: expected ellipse:… or polygon:…"))
-    })?;
-    let v = numbers(rest, &format!("hole {spec:?}"))?;
+    const SHAPES: &str = "ellipse:cx,cy,a,b,level or polygon:u1,v1,u2,v2,u3,v3,…";
+    let (kind, rest) = spec
+        .split_once(':')
+        .ok_or_else(|| Error::InvalidInput(format!("--hole {spec:?}: expected {SHAPES}")))?;
+    if kind != "ellipse" && kind != "polygon" {
+        return Err(Error::InvalidInput(format!(
+            "--hole {spec:?}: unknown shape {kind:?}; expected {SHAPES}"
+        )));
+    }
+    let v = numbers(rest, &format!("--hole {spec:?}"))?;
     match kind {
         "ellipse" if v.len() == 5 => Ok(HoleShape::Ellipse {
             center: [v[0], v[1]],
             coeffs: [v[2], v[3]],
             level: v[4],
         }),
-        "polygon" if v.len() >= 6 && v.len() % 2 == 0 => Ok(HoleShape::Polygon(
+        "ellipse" => Err(Error::InvalidInput(format!(
+            "--hole {spec:?}: an ellipse takes 5 numbers (cx,cy,a,b,level), got {}",
+            v.len()
+        ))),
+        _ if v.len() >= 6 && v.len() % 2 == 0 => Ok(HoleShape::Polygon(
             v.chunks(2).map(|c| [c[0], c[1]]).collect(),
         )),
         _ => Err(Error::InvalidInput(format!(
-            "hole {spec:?}: ellipse needs 5 numbers, polygon an even count ≥ 6"
+            "--hole {spec:?}: a polygon takes u,v pairs of at least 3 corners (an even count \
+             ≥ 6 of numbers), got {}",
+            v.len()
         ))),
     }
 }

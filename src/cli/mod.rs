@@ -81,6 +81,30 @@ enum Generate {
     Tubes(fair::TubesArgs),
 }
 
+/// clap parser of a number in (0, 1), e.g. a relative tolerance.
+fn open_unit_interval(text: &str) -> Result<f64, String> {
+    let x: f64 = text
+        .parse()
+        .map_err(|_| format!("{text:?} is not a number"))?;
+    if x > 0.0 && x < 1.0 {
+        Ok(x)
+    } else {
+        Err(format!("{text} must lie strictly between 0 and 1"))
+    }
+}
+
+/// clap parser of a positive finite number.
+fn positive_finite(text: &str) -> Result<f64, String> {
+    let x: f64 = text
+        .parse()
+        .map_err(|_| format!("{text:?} is not a number"))?;
+    if x > 0.0 && x.is_finite() {
+        Ok(x)
+    } else {
+        Err(format!("{text} must be positive and finite"))
+    }
+}
+
 /// Runs the command line; errors are printed as one line naming the file and the problem.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -101,9 +125,50 @@ pub fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("surfkit: error: {e}");
+            match (names_a_file(&e), cli.command.input()) {
+                (false, Some(input)) => eprintln!("surfkit: error: {}: {e}", input.display()),
+                _ => eprintln!("surfkit: error: {e}"),
+            }
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Whether an error's message starts with the file it is about.
+fn names_a_file(e: &crate::Error) -> bool {
+    use crate::Error as E;
+    matches!(e, E::Io { .. } | E::Parse { .. } | E::UnknownFormat { .. })
+}
+
+impl Command {
+    /// The input file of the command, which its errors are about unless they name another.
+    fn input(&self) -> Option<&Path> {
+        Some(match self {
+            Command::Info(a) => &a.mesh,
+            Command::Convert(a) => &a.input,
+            Command::Eat(a) => &a.mesh,
+            Command::Subdivide(a) => &a.input,
+            Command::Limit(a) => &a.input,
+            Command::Fill(a) => &a.spline.input,
+            Command::Fit(a) => &a.spline.input,
+            Command::Fair(a) => &a.input,
+            Command::Paper(_) | Command::Gen(_) | Command::Demo(_) => return None,
+        })
+    }
+}
+
+/// Checks, before any work, that a folder option (`--figures`, `demo --out`) names a folder
+/// or nothing yet, not a file.
+///
+/// # Errors
+/// [`crate::Error::InvalidInput`] naming the option and the path.
+fn check_folder(option: &str, path: Option<&Path>) -> crate::Result<()> {
+    match path {
+        Some(p) if p.exists() && !p.is_dir() => Err(crate::Error::InvalidInput(format!(
+            "{option} {}: is a file; give a folder (it is created if missing)",
+            p.display()
+        ))),
+        _ => Ok(()),
     }
 }
 

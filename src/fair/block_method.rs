@@ -411,7 +411,7 @@ pub fn block_newton<R: Representation>(
     let mut schwarz = Schwarz::new(global.free_count(), free_blocks)?;
     let (mut terms, mut g) = {
         let (terms, g) = global.gradient(positions);
-        finite_start(terms, g)?
+        finite_start(terms, g, positions)?
     };
     let g0 = norm(&g);
     let mut run = Run {

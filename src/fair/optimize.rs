@@ -187,14 +187,36 @@ pub(crate) fn decreases(new: f64, old: f64) -> bool {
     new.is_finite() && (new < old || (new - old).abs() <= ROUND_OFF * old.abs())
 }
 
-/// F's terms and gradient at the start of a run, refused when not finite.
-pub(crate) fn finite_start(terms: Terms, g: Vec<f64>) -> Result<(Terms, Vec<f64>)> {
+/// Coordinates above this make F (squares of second derivatives, areas) overflow or lose
+/// all precision.
+const LARGEST_SENSIBLE_COORDINATE: f64 = 1e75;
+
+/// F's terms and gradient at the start of a run, refused when not finite, with the likelier
+/// cause: coordinates so large that F overflows, or a degenerate surface.
+pub(crate) fn finite_start(
+    terms: Terms,
+    g: Vec<f64>,
+    positions: &[[f64; 3]],
+) -> Result<(Terms, Vec<f64>)> {
     if !terms.f.is_finite() || !g.iter().all(|x| x.is_finite()) {
+        let (vertex, largest) = positions
+            .iter()
+            .enumerate()
+            .map(|(v, p)| (v, p.iter().fold(0.0f64, |m, x| m.max(x.abs()))))
+            .fold((0, 0.0), |best, c| if c.1 > best.1 { c } else { best });
+        let detail = if largest > LARGEST_SENSIBLE_COORDINATE {
+            format!(
+                "F overflows at the start: vertex {vertex} has a coordinate of magnitude \
+                 {largest:e}; scale the mesh to sensible units"
+            )
+        } else {
+            "F or its gradient is not finite at the start: the surface is degenerate \
+             (vanishing tangents) somewhere"
+                .into()
+        };
         return Err(Error::Solver {
             failure: crate::error::SolverFailure::Singular,
-            detail: "F or its gradient is not finite at the start: the surface is degenerate \
-                     (vanishing tangents) somewhere"
-                .into(),
+            detail,
         });
     }
     Ok((terms, g))
@@ -452,7 +474,7 @@ pub fn newton_observed<R: Representation>(
 ) -> Result<NewtonReport> {
     let (mut terms, mut g) = {
         let (terms, g) = functional.gradient(positions);
-        finite_start(terms, g)?
+        finite_start(terms, g, positions)?
     };
     let g0 = norm(&g);
     let mut run = Stepper {

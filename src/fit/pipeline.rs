@@ -122,26 +122,48 @@ impl FitOutcome {
     /// Errors: as [`sample_mesh`].
     pub fn mesh(&self, data: &ScatteredData, res: usize) -> Result<PolygonMesh> {
         let g = self.space.grid();
-        let mut sq = vec![0.0; g.cell_count()];
+        // Per cell: the largest misfit and the sum of squares scaled by it, so that the RMS
+        // of misfits near f64::MAX does not overflow to inf.
+        let mut scale = vec![0.0f64; g.cell_count()];
+        let mut sq = vec![0.0f64; g.cell_count()];
         let mut count = vec![0usize; g.cell_count()];
-        for (p, x) in data.params.iter().zip(&data.points) {
-            let c = g
-                .locate(p[0], p[1])
-                .ok_or_else(|| Error::InvalidInput("data point outside".into()))?;
+        for (i, (p, x)) in data.params.iter().zip(&data.points).enumerate() {
+            let c = g.locate(p[0], p[1]).ok_or_else(|| {
+                Error::InvalidInput(format!(
+                    "data point {i} at (u, v) = ({}, {}) lies outside the spline's rectangle",
+                    p[0], p[1]
+                ))
+            })?;
             let s = self.eval(p[0], p[1])?;
-            sq[g.cell_index(c)] += (0..3).map(|k| (s[k] - x[k]).powi(2)).sum::<f64>();
-            count[g.cell_index(c)] += 1;
+            let k = g.cell_index(c);
+            for d in (0..3).map(|j| (s[j] - x[j]).abs()) {
+                if d > scale[k] {
+                    sq[k] = 1.0 + sq[k] * (scale[k] / d).powi(2);
+                    scale[k] = d;
+                } else if d > 0.0 {
+                    sq[k] += (d / scale[k]).powi(2);
+                }
+            }
+            count[k] += 1;
         }
         let q = |u: f64, v: f64| -> Result<f64> {
-            let c = g
-                .locate(u, v)
-                .ok_or_else(|| Error::InvalidInput("outside".into()))?;
+            let c = g.locate(u, v).ok_or_else(|| {
+                Error::InvalidInput(format!("sample ({u}, {v}) outside the spline's rectangle"))
+            })?;
             let k = g.cell_index(c);
-            Ok(if count[k] == 0 {
+            let rms = if count[k] == 0 {
                 0.0
             } else {
-                (sq[k] / count[k] as f64).sqrt()
-            })
+                scale[k] * (sq[k] / count[k] as f64).sqrt()
+            };
+            if rms.is_finite() {
+                Ok(rms)
+            } else {
+                Err(Error::InvalidInput(format!(
+                    "the misfit at ({u}, {v}) is not finite: the data or the spline passes \
+                     the range of f64 (scale the data down)"
+                )))
+            }
         };
         let (u, v) = g.bounds();
         sample_mesh(u, v, res, &|a, b| self.eval(a, b), Some(&q))
@@ -158,6 +180,10 @@ fn range(v: impl Iterator<Item = f64>) -> [f64; 2] {
 /// error and not an allocation failure (which would abort the process).
 pub const MAX_CELLS: usize = 1 << 20;
 
+/// Largest data magnitude a fit accepts: the normal equations sum squares of the data, which
+/// overflow f64 past about 1e154.
+pub const MAX_DATA_MAGNITUDE: f64 = 1e150;
+
 /// Fits σ₁ to the data on the parameter rectangle and fills the hole if any.
 ///
 /// Errors: `InvalidInput` for fewer than 1 cell per side, a degenerate parameter range,
@@ -169,6 +195,22 @@ pub fn fit_and_fill(data: &ScatteredData, setup: &FitSetup) -> Result<FitOutcome
         return Err(Error::InvalidInput(
             "need at least one cell per side".into(),
         ));
+    }
+    let too_large = |x: &f64| x.abs() > MAX_DATA_MAGNITUDE;
+    if let Some(i) = data.points.iter().position(|p| p.iter().any(too_large)) {
+        return Err(Error::InvalidInput(format!(
+            "data point {i} (data line {}) has a coordinate of magnitude above \
+             {MAX_DATA_MAGNITUDE:e}: {:?}; the fit's sums of squares would overflow, scale the \
+             data to sensible units",
+            i + 1,
+            data.points[i]
+        )));
+    }
+    if let Some(i) = data.params.iter().position(|p| p.iter().any(too_large)) {
+        return Err(Error::InvalidInput(format!(
+            "data point {i} has a parameter of magnitude above {MAX_DATA_MAGNITUDE:e}: {:?}",
+            data.params[i]
+        )));
     }
     if setup.cells[0].saturating_mul(setup.cells[1]) > MAX_CELLS {
         return Err(Error::InvalidInput(format!(

@@ -28,7 +28,14 @@ pub fn sample_mesh(
         for j in 0..n {
             let s = u[0] + (u[1] - u[0]) * i as f64 / res as f64;
             let t = v[0] + (v[1] - v[0]) * j as f64 / res as f64;
-            pos.push(surface(s, t)?);
+            let p = surface(s, t)?;
+            if !p.iter().all(|x| x.is_finite()) {
+                return Err(Error::InvalidInput(format!(
+                    "the surface is not finite at (u, v) = ({s}, {t}): {p:?} (data values \
+                     near the range of f64? scale them down)"
+                )));
+            }
+            pos.push(p);
             if let Some(f) = quality {
                 q.push(f(s, t)?);
             }
