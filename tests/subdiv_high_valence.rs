@@ -157,3 +157,21 @@ fn a_memory_limit_lowers_the_isolation_or_refuses_with_the_limit() {
         Ok(s) => panic!("1 MiB accepted at isolation {}", s.isolation()),
     }
 }
+
+#[test]
+fn the_refined_face_count_checked_against_the_memory_limit_is_exact() {
+    // Triangles, quads and a pentagon: an n-gon makes n quads, then 4 per level.
+    let mut mesh = triangle_grid(3);
+    mesh.positions.push([9.0, 9.0, 0.0]);
+    mesh.positions.push([10.0, 9.0, 0.0]);
+    mesh.push_face(&[0, 1, 5, 4]);
+    mesh.push_face(&[12, 13, 14, 15, 16]);
+    for levels in 0..=3 {
+        let refined = refine_uniform(&mesh, levels, &SubdivOptions::default()).unwrap();
+        assert_eq!(
+            surfkit::subdiv::refined_face_count(&mesh, levels),
+            refined.face_count() as u64,
+            "levels {levels}"
+        );
+    }
+}

@@ -114,7 +114,7 @@ pub fn main() -> ExitCode {
         Command::Convert(a) => convert::run(a),
         Command::Demo(a) => demo::run(a),
         Command::Eat(a) => eat::run(a),
-        Command::Subdivide(a) => subdivide::run(a).map(|()| ExitCode::SUCCESS),
+        Command::Subdivide(a) => subdivide::run(a, budget).map(|()| ExitCode::SUCCESS),
         Command::Limit(a) => limit::run(a, budget).map(|()| ExitCode::SUCCESS),
         Command::Fill(a) => fill::run(a).map(|()| ExitCode::SUCCESS),
         Command::Fit(a) => fit::run(a).map(|()| ExitCode::SUCCESS),

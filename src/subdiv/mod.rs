@@ -27,7 +27,7 @@ pub use options::{
 };
 pub use patches::{limit_surface, Patch, PatchOptions, PatchSurface, SurfacePoint};
 pub use sample::{sample_limit, LimitSamples, SampleOptions, MAX_SAMPLES};
-pub use uniform::{refine_uniform, MAX_LEVELS};
+pub use uniform::{refine_uniform, refined_face_count, BYTES_PER_REFINED_FACE, MAX_LEVELS};
 
 /// OpenSubdiv's version as `(major, minor, patch)`.
 pub fn opensubdiv_version() -> (u32, u32, u32) {

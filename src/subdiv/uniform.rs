@@ -9,6 +9,21 @@ use crate::subdiv::SubdivOptions;
 /// The most levels accepted: OpenSubdiv's own cap.
 pub const MAX_LEVELS: u32 = 10;
 
+/// Peak bytes per face of the last level of a uniform refinement: OpenSubdiv's refiner
+/// (every level), the refined mesh and its file (measured: 2 097 152 quads in 642 MB).
+pub const BYTES_PER_REFINED_FACE: u64 = 320;
+
+/// The quads of `levels` uniform Catmull–Clark levels of `mesh`: an n-gon makes n quads,
+/// each of which makes 4 per further level (saturating at `u64::MAX`).
+pub fn refined_face_count(mesh: &PolygonMesh, levels: u32) -> u64 {
+    if levels == 0 {
+        return mesh.face_count() as u64;
+    }
+    let first: u64 = mesh.faces().map(|f| f.len() as u64).sum();
+    let growth = 1u64.checked_shl(2 * (levels - 1)).unwrap_or(u64::MAX);
+    first.saturating_mul(growth)
+}
+
 /// Refines `mesh` uniformly `levels` times with Catmull–Clark's rules (OpenSubdiv's
 /// `Far::TopologyRefiner::RefineUniform` + `PrimvarRefiner`, in doubles) and returns the last
 /// level: a mesh of quads, with refined UVs when `mesh` has UVs (interpolated by
