@@ -11,6 +11,7 @@
 #include <string>
 
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include <opensubdiv/far/error.h>
@@ -39,9 +40,13 @@ thread_local std::string last_osd_error;
 void on_osd_error(Far::ErrorType, const char* message) { last_osd_error = message ? message : ""; }
 void on_osd_warning(const char* message) { last_osd_error = message ? message : ""; }
 
+// Once per process: calls may come from several threads at a time.
 void install_callbacks() {
-  Far::SetErrorCallback(on_osd_error);
-  Far::SetWarningCallback(on_osd_warning);
+  static std::once_flag once;
+  std::call_once(once, [] {
+    Far::SetErrorCallback(on_osd_error);
+    Far::SetWarningCallback(on_osd_warning);
+  });
 }
 
 template <class F>

@@ -16,6 +16,8 @@
 //! the square `[u0, u0 + size] × [v0, v0 + size]` of its ptex face.
 
 use std::collections::BTreeMap;
+
+use rayon::prelude::*;
 use std::ops::Range;
 
 use crate::error::{Error, Result};
@@ -458,6 +460,20 @@ impl PatchSurface {
     /// # Errors
     /// Those of [`PatchSurface::locate`]; [`Error::Ffi`] if OpenSubdiv fails.
     pub fn evaluate(&self, points: &[SurfacePoint]) -> Result<Vec<Derivatives>> {
+        // Chunks on rayon's threads: the table is read-only, and millions of samples (a
+        // limit map of a large mesh) are the bulk of `surfkit limit`.
+        const CHUNK: usize = 4096;
+        if points.len() <= CHUNK {
+            return self.evaluate_serial(points);
+        }
+        let parts: Vec<Vec<Derivatives>> = points
+            .par_chunks(CHUNK)
+            .map(|chunk| self.evaluate_serial(chunk))
+            .collect::<Result<_>>()?;
+        Ok(parts.into_iter().flatten().collect())
+    }
+
+    fn evaluate_serial(&self, points: &[SurfacePoint]) -> Result<Vec<Derivatives>> {
         let located: Vec<(usize, f64, f64)> = points
             .iter()
             .map(|p| self.locate(p))

@@ -1,6 +1,8 @@
 //! Sampling the limit surface on a regular grid per ptex face, with mean curvature as
 //! per-vertex quality: a curvature map MeshLab colours.
 
+use rayon::prelude::*;
+
 use crate::error::{Error, Result};
 use crate::mesh::PolygonMesh;
 use crate::subdiv::{curvature, PatchSurface, SurfacePoint};
@@ -51,61 +53,21 @@ pub fn sample_limit(surface: &PatchSurface, options: &SampleOptions) -> Result<L
         )));
     }
     let n = (k + 1) as usize;
+    // Ptex faces on rayon's threads, assembled in order.
+    let faces: Vec<Option<PtexSamples>> = (0..surface.ptex_face_count() as u32)
+        .into_par_iter()
+        .map(|ptex| sample_ptex(surface, ptex, k))
+        .collect::<Result<_>>()?;
     let mut mesh = PolygonMesh::default();
     let mut quality = Vec::new();
     let mut uvs = crate::mesh::CornerUvs::default();
     let mut degenerate = Vec::new();
-    for ptex in 0..surface.ptex_face_count() as u32 {
-        let points: Vec<SurfacePoint> = (0..n * n)
-            .map(|i| SurfacePoint {
-                ptex_face: ptex,
-                u: (i % n) as f64 / k as f64,
-                v: (i / n) as f64 / k as f64,
-            })
-            .collect();
-        if points.iter().any(|p| surface.locate(p).is_err()) {
-            continue;
-        }
+    for face in faces.into_iter().flatten() {
         let base = mesh.positions.len() as u32;
-        let first_degenerate = degenerate.len();
-        for (i, (p, d)) in points.iter().zip(surface.evaluate(&points)?).enumerate() {
-            match curvature(&d) {
-                Ok(c) => quality.push(c.mean),
-                Err(_) => {
-                    degenerate.push(base + i as u32);
-                    quality.push(0.0);
-                }
-            }
-            mesh.positions.push(d.position);
-            uvs.coords.push([p.u, p.v]);
-        }
-        for &g in &degenerate[first_degenerate..] {
-            let local = (g - base) as usize;
-            let (i, j) = ((local % n) as i64, (local / n) as i64);
-            let mut sum = 0.0;
-            let mut count = 0;
-            for (di, dj) in [
-                (-1, 0),
-                (1, 0),
-                (0, -1),
-                (0, 1),
-                (-1, -1),
-                (1, 1),
-                (-1, 1),
-                (1, -1),
-            ] {
-                let (a, b) = (i + di, j + dj);
-                if a < 0 || b < 0 || a >= n as i64 || b >= n as i64 {
-                    continue;
-                }
-                let other = base + (b as usize * n + a as usize) as u32;
-                if !degenerate[first_degenerate..].contains(&other) {
-                    sum += quality[other as usize];
-                    count += 1;
-                }
-            }
-            quality[g as usize] = if count > 0 { sum / count as f64 } else { 0.0 };
-        }
+        degenerate.extend(face.degenerate.iter().map(|&i| base + i));
+        mesh.positions.extend(face.positions);
+        quality.extend(face.quality);
+        uvs.coords.extend(face.uvs);
         let id = |i: usize, j: usize| base + (j * n + i) as u32;
         for j in 0..k as usize {
             for i in 0..k as usize {
@@ -118,4 +80,72 @@ pub fn sample_limit(surface: &PatchSurface, options: &SampleOptions) -> Result<L
     mesh.quality = Some(quality);
     mesh.uvs = Some(uvs);
     Ok(LimitSamples { mesh, degenerate })
+}
+
+/// The (k + 1)² samples of one ptex face, row by row; degenerate ones (listed by local
+/// index) get the mean curvature of their regular neighbours.
+struct PtexSamples {
+    positions: Vec<[f64; 3]>,
+    quality: Vec<f64>,
+    uvs: Vec<[f64; 2]>,
+    degenerate: Vec<u32>,
+}
+
+/// Samples ptex face `ptex` on a k × k grid; `None` where the face has no limit surface.
+fn sample_ptex(surface: &PatchSurface, ptex: u32, k: u32) -> Result<Option<PtexSamples>> {
+    let n = (k + 1) as usize;
+    let points: Vec<SurfacePoint> = (0..n * n)
+        .map(|i| SurfacePoint {
+            ptex_face: ptex,
+            u: (i % n) as f64 / k as f64,
+            v: (i / n) as f64 / k as f64,
+        })
+        .collect();
+    if points.iter().any(|p| surface.locate(p).is_err()) {
+        return Ok(None);
+    }
+    let mut out = PtexSamples {
+        positions: Vec::with_capacity(n * n),
+        quality: Vec::with_capacity(n * n),
+        uvs: Vec::with_capacity(n * n),
+        degenerate: Vec::new(),
+    };
+    for (i, (p, d)) in points.iter().zip(surface.evaluate(&points)?).enumerate() {
+        match curvature(&d) {
+            Ok(c) => out.quality.push(c.mean),
+            Err(_) => {
+                out.degenerate.push(i as u32);
+                out.quality.push(0.0);
+            }
+        }
+        out.positions.push(d.position);
+        out.uvs.push([p.u, p.v]);
+    }
+    for &g in &out.degenerate {
+        let (i, j) = ((g as usize % n) as i64, (g as usize / n) as i64);
+        let mut sum = 0.0;
+        let mut count = 0;
+        for (di, dj) in [
+            (-1, 0),
+            (1, 0),
+            (0, -1),
+            (0, 1),
+            (-1, -1),
+            (1, 1),
+            (-1, 1),
+            (1, -1),
+        ] {
+            let (a, b) = (i + di, j + dj);
+            if a < 0 || b < 0 || a >= n as i64 || b >= n as i64 {
+                continue;
+            }
+            let other = (b as usize * n + a as usize) as u32;
+            if !out.degenerate.contains(&other) {
+                sum += out.quality[other as usize];
+                count += 1;
+            }
+        }
+        out.quality[g as usize] = if count > 0 { sum / count as f64 } else { 0.0 };
+    }
+    Ok(Some(out))
 }
