@@ -175,7 +175,8 @@ typedef struct SurfkitEatOptions {
    */
   double weld_tolerance;
   /*
-   A boundary loop is a crack when it has no width to this fraction of its perimeter.
+   A boundary vertex within this fraction of a boundary edge's length of that edge is
+   a T-vertex on it (a crack); default 0.01.
    */
   double crack_tolerance;
   /*

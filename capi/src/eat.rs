@@ -20,7 +20,8 @@ pub struct SurfkitEatOptions {
     pub halfedge: c_int,
     /// Distance under which distinct vertices count as coincident (0: same coordinates).
     pub weld_tolerance: f64,
-    /// A boundary loop is a crack when it has no width to this fraction of its perimeter.
+    /// A boundary vertex within this fraction of a boundary edge's length of that edge is
+    /// a T-vertex on it (a crack); default 0.01.
     pub crack_tolerance: f64,
     /// Test points: after `test_point_facets[i]` facets, χ must be `test_point_expected[i]`
     /// (`test_point_count` of each; a last test point at the whole mesh is added when the

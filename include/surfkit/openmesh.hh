@@ -150,8 +150,9 @@ struct EatOptions {
   bool halfedge = true;
   /// Distance under which distinct vertices count as coincident (0: same coordinates).
   double weld_tolerance = 0.0;
-  /// A boundary loop is a crack when it has no width to this fraction of its perimeter.
-  double crack_tolerance = 1e-6;
+  /// A boundary vertex within this fraction of a boundary edge's length of that edge is a
+  /// T-vertex on it (a crack).
+  double crack_tolerance = 0.01;
   /// Test points (facet count, expected χ); one entry with facets = 0 means the whole mesh.
   std::vector<std::pair<size_t, int64_t>> test_points;
 };

@@ -244,8 +244,17 @@ pub fn render(name: &str, report: &EatReport, show: usize) -> String {
         c.boundary_loops,
         c.boundary_loops_walk
             .map_or("undefined".into(), |w| w.to_string()),
-        c.genus
-            .map_or("undefined (non-manifold)".into(), |g| g.to_string())
+        match (c.genus, c.non_orientable_genus) {
+            (Some(g), _) => g.to_string(),
+            (None, Some(k)) => format!("non-orientable {k}"),
+            _ if report
+                .components
+                .iter()
+                .any(|c| c.orientable == Some(false))
+                && report.components.iter().all(|c| c.manifold) =>
+                "per component (orientable and non-orientable)".into(),
+            _ => "undefined (non-manifold)".into(),
+        }
     );
     for (i, comp) in report.components.iter().enumerate().take(show) {
         let _ = writeln!(
@@ -261,7 +270,12 @@ pub fn render(name: &str, report: &EatReport, show: usize) -> String {
                 Some(false) => "non-orientable",
                 None => "orientation undefined",
             },
-            comp.genus.map_or("-".into(), |g| g.to_string())
+            comp.genus
+                .map_or("-".into(), |g| if comp.orientable == Some(false) {
+                    format!("{g} (cross-caps)")
+                } else {
+                    g.to_string()
+                })
         );
     }
     if let Some(h) = &report.halfedge {

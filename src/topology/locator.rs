@@ -4,17 +4,22 @@
 use crate::mesh::vector::distance;
 use foldhash::{HashMap as FxHashMap, HashMapExt};
 
+use super::cracks::stitch_cracks;
 use super::flaw::{Flaw, FlawKind, LoopShape};
 use super::registry::EatRegistry;
 use super::structure::Structure;
+
+/// The default crack tolerance: finds a T-vertex 0.5 % of the edge's length off the edge
+/// (a float export of a T-junction) with a margin of two.
+pub const DEFAULT_CRACK_TOLERANCE: f64 = 0.01;
 
 /// Options of the locator.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LocatorOptions {
     /// Distance under which two distinct vertices count as coincident (0: same coordinates).
     pub weld_tolerance: f64,
-    /// A boundary loop is a crack when its longest edge equals the sum of the others to
-    /// this fraction of the perimeter (the loop has no width: a T-junction).
+    /// A boundary vertex within this fraction of a boundary edge's length of that edge
+    /// (and not one of its ends) is a T-vertex on it: a crack.
     pub crack_tolerance: f64,
 }
 
@@ -22,14 +27,17 @@ impl Default for LocatorOptions {
     fn default() -> Self {
         LocatorOptions {
             weld_tolerance: 0.0,
-            crack_tolerance: 1e-6,
+            crack_tolerance: DEFAULT_CRACK_TOLERANCE,
         }
     }
 }
 
-/// Boundary loops as vertex cycles: boundary half-edges run opposite to their one facet,
-/// and at each vertex the walk continues with the boundary half-edge of the same fan of
-/// facets (so a pinch vertex closes one loop per fan, as a half-edge walk does).
+/// Boundary loops as vertex cycles. A boundary edge joins two nodes (vertex, fan of its
+/// facet at that vertex); each loop is walked once through the nodes, so a pinch vertex
+/// closes one loop per fan (as a half-edge walk does) and a non-orientable strip, whose
+/// boundary half-edges do not chain head to tail, is still one loop. Each loop starts
+/// along its first edge's boundary half-edge (opposite to the facet), so on an orientable
+/// surface the loops run as OpenMesh's boundary walks do.
 pub fn boundary_walks(registry: &EatRegistry, structure: &Structure) -> Vec<Vec<u32>> {
     let (offsets, corners) = registry.facet_arrays();
     let next_corner = |k: u32| {
@@ -40,42 +48,41 @@ pub fn boundary_walks(registry: &EatRegistry, structure: &Structure) -> Vec<Vec<
             k + 1
         }
     };
-    // Boundary half-edge w→u for a facet running u→w: keyed by (w, fan of the facet at w).
-    let mut leaving: FxHashMap<(u32, u32), Vec<(u32, u32)>> = FxHashMap::new();
-    let mut order = Vec::new();
+    // Per boundary edge: its two nodes, the first being where its boundary half-edge starts.
+    let mut ends: Vec<[(u32, u32); 2]> = Vec::new();
+    let mut at_node: FxHashMap<(u32, u32), Vec<u32>> = FxHashMap::new();
     for (e, item) in registry.edges().iter().enumerate() {
         if item.ec != 1 {
             continue;
         }
         let side = structure.first_side(e);
         let (ku, kw) = (side.corner, next_corner(side.corner));
-        let key = (corners[kw as usize], structure.corner_fan[kw as usize]);
-        // Value: the half-edge's end vertex and the fan at that end.
-        leaving
-            .entry(key)
-            .or_default()
-            .push((corners[ku as usize], structure.corner_fan[ku as usize]));
-        order.push(key);
+        let from = (corners[kw as usize], structure.corner_fan[kw as usize]);
+        let to = (corners[ku as usize], structure.corner_fan[ku as usize]);
+        let id = ends.len() as u32;
+        ends.push([from, to]);
+        at_node.entry(from).or_default().push(id);
+        at_node.entry(to).or_default().push(id);
     }
-    let mut used: FxHashMap<(u32, u32), usize> = FxHashMap::new();
+    let mut used = vec![false; ends.len()];
     let mut loops = Vec::new();
-    for start in order {
-        if used.get(&start).copied().unwrap_or(0) >= leaving[&start].len() {
+    for start in 0..ends.len() {
+        if used[start] {
             continue;
         }
-        let mut cycle = Vec::new();
-        let mut at = start;
-        loop {
-            let n = used.entry(at).or_insert(0);
-            let Some(&next) = leaving.get(&at).and_then(|l| l.get(*n)) else {
-                break;
+        used[start] = true;
+        let origin = ends[start][0];
+        let mut cycle = vec![origin.0];
+        let mut at = ends[start][1];
+        while at != origin {
+            let next = at_node[&at].iter().copied().find(|&e| !used[e as usize]);
+            let Some(e) = next else {
+                break; // an open chain (only where an edge has three or more sides)
             };
-            *n += 1;
+            used[e as usize] = true;
             cycle.push(at.0);
-            at = next;
-            if at == start {
-                break;
-            }
+            let [p, q] = ends[e as usize];
+            at = if p == at { q } else { p };
         }
         loops.push(cycle);
     }
@@ -136,48 +143,34 @@ pub fn loop_shape(cycle: &[u32], positions: &[[f64; 3]], median_edge: f64) -> Lo
     }
 }
 
-/// Classifies one boundary loop: crack (no width), missing triangle or quad, or hole.
+/// Classifies one boundary loop: missing triangle or quad, or hole. A loop that is the
+/// whole border of one facet (an isolated facet) is a hole: adding the reversed facet
+/// would only duplicate it.
 fn loop_flaw(
     cycle: Vec<u32>,
     positions: &[[f64; 3]],
     median_edge: f64,
-    options: &LocatorOptions,
     component: Option<u32>,
+    own_facet: Option<u32>,
 ) -> Flaw {
     let shape = loop_shape(&cycle, positions, median_edge);
     let n = cycle.len();
-    let lengths: Vec<f64> = (0..n)
-        .map(|k| {
-            distance(
-                positions[cycle[k] as usize],
-                positions[cycle[(k + 1) % n] as usize],
-            )
-        })
-        .collect();
-    let (long, &longest) = lengths
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.total_cmp(b.1))
-        .unwrap_or((0, &0.0));
     let position = centroid(cycle.iter().map(|&v| positions[v as usize]));
-    let is_crack = n >= 3
-        && (shape.perimeter - 2.0 * longest).abs() <= options.crack_tolerance * shape.perimeter;
-    if is_crack {
-        let (a, b) = (cycle[long], cycle[(long + 1) % n]);
-        let chain: Vec<u32> = (2..=n).map(|k| cycle[(long + k) % n]).take(n - 2).collect();
-        let mut vertices = vec![a, b];
-        vertices.extend(&chain);
+    if let Some(f) = own_facet {
         return Flaw {
-            kind: FlawKind::Crack,
-            vertices,
-            faces: Vec::new(),
+            kind: FlawKind::Hole,
+            description: format!(
+                "boundary loop of {n} edges around facet {f} alone (an isolated facet), perimeter {:.6}",
+                shape.perimeter
+            ),
+            vertices: cycle,
+            faces: vec![f],
             position,
             shape: Some(shape),
             component,
-            description: format!(
-                "edge {{{a}, {b}}} runs along the chain of boundary edges through {chain:?}: a crack of no width (T-junction)"
+            suggested_fix: format!(
+                "delete facet {f} if it is debris; otherwise its border is the surface's"
             ),
-            suggested_fix: format!("split edge {{{a}, {b}}} at vertices {chain:?} in the facet that uses it"),
         };
     }
     let (kind, fix) = match n {
@@ -226,7 +219,7 @@ pub fn locate(
     options: &LocatorOptions,
 ) -> Vec<Flaw> {
     let geometry = GeometryFacts::of(registry, positions, options);
-    locate_with(registry, structure, positions, facet_ids, &geometry)
+    locate_with(registry, structure, positions, facet_ids, &geometry).0
 }
 
 /// What the locator needs from the geometry alone (not from the structure), so that it can
@@ -248,31 +241,93 @@ impl GeometryFacts {
     }
 }
 
-/// [`locate`] with the geometric facts already computed.
+/// [`locate`] with the geometric facts already computed; also returns the component of
+/// each boundary walk (the loops the topology counts, before T-junctions are stitched).
 pub fn locate_with(
     registry: &EatRegistry,
     structure: &Structure,
     positions: &[[f64; 3]],
     facet_ids: &[u32],
     geometry: &GeometryFacts,
-) -> Vec<Flaw> {
-    let options = &LocatorOptions {
-        weld_tolerance: 0.0,
-        crack_tolerance: geometry.crack_tolerance,
-    };
+) -> (Vec<Flaw>, Vec<Option<u32>>) {
     let mut flaws = Vec::new();
     let median = geometry.median_edge;
     let (offsets, corners) = registry.facet_arrays();
     let facet_id = |f: u32| facet_ids.get(f as usize).copied().unwrap_or(f);
     let pos = |v: u32| positions[v as usize];
 
-    // Boundary loops, located by walking.
-    for cycle in boundary_walks(registry, structure) {
-        let component = cycle.first().and_then(|&v| {
-            let e = registry.edge_slot(v, *cycle.get(1).unwrap_or(&v))?;
-            Some(structure.facet_component[structure.first_side(e as usize).facet as usize])
+    // Boundary loops, located by walking; T-junctions stitched to show what they hide.
+    let walks = boundary_walks(registry, structure);
+    let component_of_walk = |cycle: &[u32]| {
+        let (&a, &b) = (cycle.first()?, cycle.get(1).or(cycle.first())?);
+        let e = registry.edge_slot(a, b)?;
+        Some(structure.facet_component[structure.first_side(e as usize).facet as usize])
+    };
+    let walk_components: Vec<Option<u32>> = walks.iter().map(|w| component_of_walk(w)).collect();
+    // The facet alone on a loop's edges, when the loop is exactly that facet's border.
+    let own_facet = |cycle: &[u32]| {
+        let (&a, &b) = (cycle.first()?, cycle.get(1)?);
+        let f = structure
+            .first_side(registry.edge_slot(a, b)? as usize)
+            .facet as usize;
+        let face = &corners[offsets[f] as usize..offsets[f + 1] as usize];
+        let mut x = face.to_vec();
+        let mut y = cycle.to_vec();
+        x.sort_unstable();
+        y.sort_unstable();
+        (x == y).then(|| facet_id(f as u32))
+    };
+    let stitched = stitch_cracks(&walks, positions, geometry.crack_tolerance);
+    for j in &stitched.junctions {
+        let faces: Vec<u32> = registry
+            .edge_slot(j.a, j.b)
+            .map(|e| {
+                structure
+                    .sides_of(e as usize)
+                    .map(|s| facet_id(s.facet))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let mut vertices = vec![j.a, j.b];
+        vertices.extend(&j.t_vertices);
+        let (a, b, ts) = (j.a, j.b, &j.t_vertices);
+        flaws.push(Flaw {
+            kind: FlawKind::Crack,
+            position: centroid(ts.iter().map(|&v| pos(v))),
+            shape: None,
+            component: registry.edge_slot(a, b).map(|e| {
+                structure.facet_component[structure.first_side(e as usize).facet as usize]
+            }),
+            description: format!(
+                "boundary vertices {ts:?} lie on edge {{{a}, {b}}} ({}) but facet {faces:?} does not use them: a crack (T-junction)",
+                if j.offset == 0.0 {
+                    "on its line".to_string()
+                } else {
+                    format!("up to {:.3} % of its length off it", 100.0 * j.offset)
+                }
+            ),
+            suggested_fix: format!(
+                "split edge {{{a}, {b}}} at vertices {ts:?} in facet {faces:?} (insert them between its corners {a} and {b})"
+            ),
+            vertices,
+            faces,
         });
-        flaws.push(loop_flaw(cycle, positions, median, options, component));
+    }
+    for (w, cycle) in walks.iter().enumerate() {
+        if !stitched.stitched_walk[w] {
+            let own = own_facet(cycle);
+            flaws.push(loop_flaw(
+                cycle.clone(),
+                positions,
+                median,
+                walk_components[w],
+                own,
+            ));
+        }
+    }
+    for (cycle, w) in stitched.remaining.iter().cloned() {
+        let own = own_facet(&cycle);
+        flaws.push(loop_flaw(cycle, positions, median, walk_components[w], own));
     }
 
     for (e, item) in registry.edges().iter().enumerate() {
@@ -313,7 +368,14 @@ pub fn locate_with(
         }
     }
 
+    // A crack whose edge ends on a border splits the fan at that end in two: the crack
+    // is the flaw there, and stitching it joins the fans again.
+    let crack_ends: foldhash::HashSet<u32> =
+        stitched.junctions.iter().flat_map(|j| [j.a, j.b]).collect();
     for (&v, &fans) in structure.non_manifold_vertices.iter().zip(&structure.fans) {
+        if fans == 2 && crack_ends.contains(&v) {
+            continue;
+        }
         flaws.push(Flaw {
             kind: FlawKind::NonManifoldVertex,
             vertices: vec![v],
@@ -394,7 +456,7 @@ pub fn locate_with(
             suggested_fix: format!("weld vertex {v} into vertex {u}"),
         });
     }
-    flaws
+    (flaws, walk_components)
 }
 
 /// Referenced vertices (in id order) that lie within `tolerance` of an earlier referenced

@@ -9,6 +9,7 @@
 //! - `scan`: all of it over a finished mesh (`topology::scan(&mesh, &EatOptions)`), with the
 //!   OpenMesh half-edge structure of the accepted facets.
 
+mod cracks;
 mod disjoint_sets;
 mod flaw;
 mod locator;
@@ -21,8 +22,9 @@ mod statistics;
 mod structure;
 mod target;
 
+pub use cracks::{stitch_cracks, Stitched, TJunction};
 pub use flaw::{Flaw, FlawKind, LoopShape};
-pub use locator::{boundary_walks, locate, LocatorOptions};
+pub use locator::{boundary_walks, locate, LocatorOptions, DEFAULT_CRACK_TOLERANCE};
 pub use mark::{flaw_color, mark_flaws, SOUND};
 pub use progressive::{Checkpoint, FacetDetail, ModelCompanion};
 pub use registry::{EatRegistry, EdgeItem, FacetRegistration, VertexItem};

@@ -62,8 +62,12 @@ pub struct TopologyCounts {
     pub non_manifold_edges: usize,
     pub non_manifold_vertices: usize,
     pub components: usize,
-    /// (2c − b − χ)/2 for a mesh without non-manifold elements or degenerate facets.
+    /// (2c − b − χ)/2 for an orientable mesh without non-manifold elements or degenerate
+    /// facets (MeshLab's formula); None where a component is non-orientable.
     pub genus: Option<i64>,
+    /// Cross-caps, 2c − b − χ, when every component is a non-orientable manifold (Möbius
+    /// strip 1, Klein bottle 2); a mesh mixing both kinds has its genera per component.
+    pub non_orientable_genus: Option<i64>,
     pub unreferenced_vertices: usize,
     pub duplicated_facets: usize,
     pub degenerate_facets: usize,
@@ -161,9 +165,9 @@ pub fn scan(mesh: &PolygonMesh, options: &EatOptions) -> Result<EatReport> {
         || GeometryFacts::of(registry, &mesh.positions, &options.locator),
     );
     let ids: Vec<u32> = (0..faces as u32).collect();
-    let flaws = locate_with(registry, &structure, &mesh.positions, &ids, &geometry);
-    let counts = counts(mesh, registry, &structure, &flaws);
-    let components = component_topology(registry, &structure, &flaws);
+    let (flaws, walks) = locate_with(registry, &structure, &mesh.positions, &ids, &geometry);
+    let counts = counts(mesh, registry, &structure, &flaws, &walks);
+    let components = component_topology(registry, &structure, &walks);
     let halfedge = if options.halfedge {
         let built = halfedge::build(mesh)?;
         Some(HalfEdgeReport {
@@ -190,6 +194,7 @@ fn counts(
     registry: &super::EatRegistry,
     structure: &Structure,
     flaws: &[Flaw],
+    walks: &[Option<u32>],
 ) -> TopologyCounts {
     let count = |k: FlawKind| flaws.iter().filter(|f| f.kind == k).count();
     let stats = EatStatistics::of(registry);
@@ -197,10 +202,11 @@ fn counts(
     let inconsistent = registry.edges().iter().filter(|e| e.inconsistent()).count();
     let degenerate = count(FlawKind::DegenerateFacet);
     let boundary_edges = registry.edges().iter().filter(|e| e.ec == 1).count();
-    let walk = flaws.iter().filter(|f| f.kind.is_boundary_loop()).count();
+    let walk = walks.len();
     let manifold = nm_edges == 0 && structure.non_manifold_vertices.is_empty() && degenerate == 0;
     let loops = structure.boundary_loop_count as i64;
     let c = i64::from(structure.component_count);
+    let orientable = &structure.component_orientable;
     TopologyCounts {
         vertices_in_file: mesh.vertex_count(),
         vertices_referenced: stats.vertices,
@@ -216,7 +222,12 @@ fn counts(
         non_manifold_edges: nm_edges,
         non_manifold_vertices: structure.non_manifold_vertices.len(),
         components: structure.component_count as usize,
-        genus: manifold.then(|| (2 * c - loops - stats.euler_characteristic) / 2),
+        genus: (manifold && orientable.iter().all(|&o| o == Some(true)))
+            .then(|| (2 * c - loops - stats.euler_characteristic) / 2),
+        non_orientable_genus: (manifold
+            && !orientable.is_empty()
+            && orientable.iter().all(|&o| o == Some(false)))
+        .then(|| 2 * c - loops - stats.euler_characteristic),
         unreferenced_vertices: count(FlawKind::UnreferencedVertex),
         duplicated_facets: count(FlawKind::DuplicatedFacet),
         degenerate_facets: degenerate,
@@ -229,7 +240,7 @@ fn counts(
 fn component_topology(
     registry: &super::EatRegistry,
     structure: &Structure,
-    flaws: &[Flaw],
+    walks: &[Option<u32>],
 ) -> Vec<ComponentTopology> {
     let n = structure.component_count as usize;
     let mut out: Vec<ComponentTopology> = (0..n)
@@ -254,10 +265,8 @@ fn component_topology(
             out[c].manifold = false;
         }
     }
-    for f in flaws.iter().filter(|f| f.shape.is_some()) {
-        if let Some(c) = f.component {
-            out[c as usize].boundary_loops += 1;
-        }
+    for c in walks.iter().flatten() {
+        out[*c as usize].boundary_loops += 1;
     }
     // Vertices per component: a pinch vertex between components counts in each. Most
     // vertices lie in one component: keep the first, and collect the rare others.
