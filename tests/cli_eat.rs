@@ -110,3 +110,65 @@ fn fail_on_kinds_and_expectations() {
         .unwrap();
     assert_eq!(out.status.code(), Some(3), "a sphere is not a torus");
 }
+
+/// Two triangles on edge 0–1 from one side and a quad 0–3–1–2 on the other: vertex 3 is
+/// 0.4 % of the edge's length off the edge (a float export of a T-junction).
+#[test]
+fn crack_tolerance_decides_whether_a_vertex_off_the_edge_is_a_t_vertex() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("t.obj");
+    std::fs::write(
+        &path,
+        "v 0 0 0\nv 1 0 0\nv 0.5 -1 0\nv 0.5 0.004 0\nv 0.5 1 0\nf 1 3 2\nf 1 4 5\nf 4 2 5\n",
+    )
+    .unwrap();
+    let run = |extra: &[&str]| {
+        let out = surfkit()
+            .arg("eat")
+            .arg(&path)
+            .arg("--json")
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let kinds: Vec<String> = json["report"]["flaws"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f["kind"].as_str().unwrap().to_string())
+            .collect();
+        (kinds, json)
+    };
+    let (kinds, json) = run(&[]);
+    assert!(kinds.contains(&"crack".to_string()), "{kinds:?}");
+    let crack = json["report"]["flaws"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["kind"] == "crack")
+        .unwrap();
+    let mut edge: Vec<u64> = crack["vertices"].as_array().unwrap()[..2]
+        .iter()
+        .map(|v| v.as_u64().unwrap())
+        .collect();
+    edge.sort_unstable();
+    assert_eq!(edge, vec![0, 1]);
+    assert_eq!(crack["vertices"][2], 3);
+    assert_eq!(crack["faces"], serde_json::json!([0]));
+    let (kinds, _) = run(&["--crack-tolerance", "0.001"]);
+    assert!(!kinds.contains(&"crack".to_string()), "{kinds:?}");
+    let out = surfkit()
+        .args(["eat", path.to_str().unwrap(), "--crack-tolerance", "2"])
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "clap refuses a tolerance outside (0, 1)"
+    );
+}

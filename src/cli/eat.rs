@@ -43,6 +43,11 @@ pub struct EatArgs {
     /// Distance under which distinct vertices count as coincident (default: same coordinates).
     #[arg(long, default_value_t = 0.0)]
     pub weld_tolerance: f64,
+    /// A boundary vertex within this fraction of a boundary edge's length of that edge (and
+    /// joined to the edge's other side) is a T-vertex on it: a crack. In (0, 1).
+    #[arg(long, default_value_t = crate::topology::DEFAULT_CRACK_TOLERANCE,
+          value_parser = super::open_unit_interval)]
+    pub crack_tolerance: f64,
     /// Exit with status 3 when flaws of these kinds are found (comma separated, or "any").
     #[arg(long, value_delimiter = ',')]
     pub fail_on: Vec<String>,
@@ -132,7 +137,7 @@ pub fn run(args: &EatArgs) -> Result<ExitCode> {
         test_points: test_points(&ends, &expected)?,
         locator: LocatorOptions {
             weld_tolerance: args.weld_tolerance,
-            ..Default::default()
+            crack_tolerance: args.crack_tolerance,
         },
         halfedge: !args.no_halfedge,
     };
