@@ -4,11 +4,12 @@
 //! 3 when a test point fails or a `--fail-on` flaw is present, 1 on an error.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use crate::error::{Error, Result};
 use crate::mesh::io::{read_with, write, ReadOptions, WriteOptions};
+use crate::mesh::PolygonMesh;
 use crate::topology::{
     mark_flaws, scan, stage_ends, test_points, EatOptions, EatReport, FlawKind, LocatorOptions,
     StageSource, TargetTopology,
@@ -19,8 +20,10 @@ pub const TEST_FAILED: u8 = 3;
 
 #[derive(clap::Args, Debug)]
 pub struct EatArgs {
-    /// The mesh (.obj, .ply or .off).
-    pub mesh: PathBuf,
+    /// The mesh (.obj, .ply or .off); several files or folders (searched recursively for
+    /// .obj, .ply and .off) are scanned in parallel with one summary line per file.
+    #[arg(required = true, num_args = 1..)]
+    pub meshes: Vec<PathBuf>,
     /// Test points at the end of each OBJ `g` group or `o` object.
     #[arg(long, value_parser = ["groups", "objects"])]
     pub stages: Option<String>,
@@ -61,11 +64,25 @@ pub struct EatArgs {
     #[arg(long)]
     pub no_halfedge: bool,
     /// Print the JSON report (schema in README.md) instead of text.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "jsonl")]
     pub json: bool,
+    /// One JSON object per file on its own line, streamed as each file finishes, then a
+    /// summary line (any number of files or folders).
+    #[arg(long)]
+    pub jsonl: bool,
+    /// Files scanned at once in folder mode (default: one per core).
+    #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=1024))]
+    pub jobs: Option<usize>,
 }
 
-fn expected_chis(args: &EatArgs) -> Result<Vec<i64>> {
+impl EatArgs {
+    /// Whether the command scans many files (several inputs, a folder, or `--jsonl`).
+    pub fn many(&self) -> bool {
+        self.jsonl || self.meshes.len() > 1 || self.meshes.iter().any(|p| p.is_dir())
+    }
+}
+
+pub(super) fn expected_chis(args: &EatArgs) -> Result<Vec<i64>> {
     if !args.expect.is_empty() {
         return Ok(args.expect.clone());
     }
@@ -88,7 +105,7 @@ fn expected_chis(args: &EatArgs) -> Result<Vec<i64>> {
     Ok(Vec::new())
 }
 
-fn fail_kinds(names: &[String]) -> Result<Vec<FlawKind>> {
+pub(super) fn fail_kinds(names: &[String]) -> Result<Vec<FlawKind>> {
     let mut kinds = Vec::new();
     for n in names {
         if n == "any" {
@@ -106,20 +123,16 @@ fn fail_kinds(names: &[String]) -> Result<Vec<FlawKind>> {
     Ok(kinds)
 }
 
-pub fn run(args: &EatArgs) -> Result<ExitCode> {
-    super::check_paths(
-        &[Some(&args.mesh), args.reference.as_deref()],
-        &[args.mark.as_deref()],
-    )?;
-    let fail_on = fail_kinds(&args.fail_on)?;
-    if args.weld_tolerance.is_nan() || args.weld_tolerance < 0.0 {
-        return Err(Error::InvalidInput(format!(
-            "--weld-tolerance {} must be 0 or more",
-            args.weld_tolerance
-        )));
-    }
+/// The scan of one file with the command's options: the mesh, its report, and the
+/// `--fail-on` kinds found in it.
+pub(super) fn scan_file(
+    path: &Path,
+    args: &EatArgs,
+    expected: &[i64],
+    fail_on: &[FlawKind],
+) -> Result<(PolygonMesh, EatReport, Vec<FlawKind>)> {
     let mesh = read_with(
-        &args.mesh,
+        path,
         &ReadOptions {
             keep_degenerate: true,
         },
@@ -132,9 +145,8 @@ pub fn run(args: &EatArgs) -> Result<ExitCode> {
         _ => StageSource::Whole,
     };
     let ends = stage_ends(&mesh, &source)?;
-    let expected = expected_chis(args)?;
     let options = EatOptions {
-        test_points: test_points(&ends, &expected)?,
+        test_points: test_points(&ends, expected)?,
         locator: LocatorOptions {
             weld_tolerance: args.weld_tolerance,
             crack_tolerance: args.crack_tolerance,
@@ -142,6 +154,33 @@ pub fn run(args: &EatArgs) -> Result<ExitCode> {
         halfedge: !args.no_halfedge,
     };
     let report = scan(&mesh, &options)?;
+    let failing_kinds: Vec<FlawKind> = report
+        .flaw_counts()
+        .into_iter()
+        .map(|(k, _)| k)
+        .filter(|k| fail_on.contains(k))
+        .collect();
+    Ok((mesh, report, failing_kinds))
+}
+
+pub fn run(args: &EatArgs) -> Result<ExitCode> {
+    if args.weld_tolerance.is_nan() || args.weld_tolerance < 0.0 {
+        return Err(Error::InvalidInput(format!(
+            "--weld-tolerance {} must be 0 or more",
+            args.weld_tolerance
+        )));
+    }
+    if args.many() {
+        return super::eat_folder::run(args);
+    }
+    let path = &args.meshes[0];
+    super::check_paths(
+        &[Some(path), args.reference.as_deref()],
+        &[args.mark.as_deref()],
+    )?;
+    let fail_on = fail_kinds(&args.fail_on)?;
+    let expected = expected_chis(args)?;
+    let (mesh, report, failing_kinds) = scan_file(path, args, &expected, &fail_on)?;
     if let Some(out) = &args.mark {
         write(
             out,
@@ -149,15 +188,9 @@ pub fn run(args: &EatArgs) -> Result<ExitCode> {
             &WriteOptions::default(),
         )?;
     }
-    let failing_kinds: Vec<FlawKind> = report
-        .flaw_counts()
-        .into_iter()
-        .map(|(k, _)| k)
-        .filter(|k| fail_on.contains(k))
-        .collect();
     if args.json {
         super::print_json(&serde_json::json!({
-            "file": args.mesh,
+            "file": path,
             "verified": report.verified(),
             "failing_flaw_kinds": failing_kinds,
             "marked_mesh": args.mark,
@@ -166,7 +199,7 @@ pub fn run(args: &EatArgs) -> Result<ExitCode> {
     } else {
         print!(
             "{}",
-            render(&args.mesh.display().to_string(), &report, args.show)
+            render(&path.display().to_string(), &report, args.show)
         );
         if let Some(out) = &args.mark {
             println!(

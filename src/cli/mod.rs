@@ -19,6 +19,7 @@ mod output;
 mod convert;
 mod demo;
 mod eat;
+mod eat_folder;
 mod fair;
 mod fill;
 mod fit;
@@ -135,7 +136,7 @@ pub fn main() -> ExitCode {
 }
 
 /// Whether an error's message starts with the file it is about.
-fn names_a_file(e: &crate::Error) -> bool {
+pub(super) fn names_a_file(e: &crate::Error) -> bool {
     use crate::Error as E;
     matches!(e, E::Io { .. } | E::Parse { .. } | E::UnknownFormat { .. })
 }
@@ -146,7 +147,8 @@ impl Command {
         Some(match self {
             Command::Info(a) => &a.mesh,
             Command::Convert(a) => &a.input,
-            Command::Eat(a) => &a.mesh,
+            Command::Eat(a) if a.many() => return None,
+            Command::Eat(a) => &a.meshes[0],
             Command::Subdivide(a) => &a.input,
             Command::Limit(a) => &a.input,
             Command::Fill(a) => &a.spline.input,
