@@ -137,6 +137,30 @@ pub fn scan(mesh: &PolygonMesh, options: &EatOptions) -> Result<EatReport> {
             t.label, t.facets
         )));
     }
+    // OpenMesh's half-edge structure needs only the mesh: it is built on the other core
+    // while the registry, the structure and the locator run here.
+    let (halfedge, registry_side) = rayon::join(
+        || options.halfedge.then(|| halfedge_report(mesh)).transpose(),
+        || accompany(mesh, options),
+    );
+    let mut report = registry_side;
+    report.halfedge = halfedge?;
+    Ok(report)
+}
+
+/// What OpenMesh's half-edge structure takes of the facets.
+fn halfedge_report(mesh: &PolygonMesh) -> Result<HalfEdgeReport> {
+    let built = halfedge::build(mesh)?;
+    Ok(HalfEdgeReport {
+        accepted: built.mesh.face_count(),
+        refused: built.refused().map(|(f, s)| (f as u32, s)).collect(),
+        boundary_loops: built.mesh.boundary_loops()?.len(),
+    })
+}
+
+/// The accompanying test proper: registration with test points, then structure and flaws.
+fn accompany(mesh: &PolygonMesh, options: &EatOptions) -> EatReport {
+    let faces = mesh.face_count();
     let mut companion =
         ModelCompanion::with_capacity(mesh.vertex_count(), faces, mesh.face_indices.len());
     let mut checkpoints = Vec::new();
@@ -168,25 +192,15 @@ pub fn scan(mesh: &PolygonMesh, options: &EatOptions) -> Result<EatReport> {
     let (flaws, walks) = locate_with(registry, &structure, &mesh.positions, &ids, &geometry);
     let counts = counts(mesh, registry, &structure, &flaws, &walks);
     let components = component_topology(registry, &structure, &walks);
-    let halfedge = if options.halfedge {
-        let built = halfedge::build(mesh)?;
-        Some(HalfEdgeReport {
-            accepted: built.mesh.face_count(),
-            refused: built.refused().map(|(f, s)| (f as u32, s)).collect(),
-            boundary_loops: built.mesh.boundary_loops()?.len(),
-        })
-    } else {
-        None
-    };
-    Ok(EatReport {
+    EatReport {
         statistics: companion.statistics(),
         counts,
         components,
         checkpoints,
         first_failure,
         flaws,
-        halfedge,
-    })
+        halfedge: None,
+    }
 }
 
 fn counts(
