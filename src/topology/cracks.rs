@@ -77,7 +77,8 @@ impl VertexGrid {
         out.clear();
         let length = distance(a, b);
         let steps = (length / self.cell).ceil().max(1.0);
-        let radius = (reach / self.cell).ceil() + 1.0;
+        // A vertex within `reach` of the segment is within reach + cell/2 of a sample.
+        let radius = ((reach + 0.5 * self.cell) / self.cell).ceil();
         let lookups = (steps + 1.0) * (2.0 * radius + 1.0).powi(3);
         // Past as many lookups as there are occupied cells, a pass over all is cheaper.
         if lookups >= self.cells.len() as f64 {
