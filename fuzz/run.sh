@@ -27,6 +27,8 @@ mesh_topology)
 *)
     ext=${target#read_} ;;
 esac
+# Inputs that once crashed a target (kept as regressions) start every run.
+[ -d "fuzz/regressions/$target" ] && cp fuzz/regressions/"$target"/* "$corpus"/
 # Small real meshes (under 20 kB) plus the malformed ones: the fuzzer starts near both.
 [ "$ext" = none ] || find fixtures/meshes fixtures/bad -name "*.$ext" -size -20k -exec cp {} "$corpus"/ \;
 # fixtures/meshes has no small PLY and one small OFF: convert two small OBJ meshes

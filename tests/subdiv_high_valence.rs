@@ -1,7 +1,7 @@
 //! The limit surface around vertices of high valence and under a memory limit: the apex of
 //! a cone fan (valence up to 1000, which OpenSubdiv's own stencil factory could not build in
 //! minutes) against the Catmull–Clark limit-position formula, and the memory budget lowering
-//! the isolation level or refusing the surface.
+//! the isolation level or refusing the surface; faces OpenSubdiv cannot take are refused.
 
 use surfkit::limits::MemoryBudget;
 use surfkit::mesh::PolygonMesh;
@@ -174,4 +174,30 @@ fn the_refined_face_count_checked_against_the_memory_limit_is_exact() {
             "levels {levels}"
         );
     }
+}
+
+/// Found by the `mesh_topology` fuzzer: faces that use a vertex twice sent OpenSubdiv's
+/// end-cap construction into a stack overflow (an abort no caller can catch). They are
+/// refused before OpenSubdiv sees them, naming the face.
+#[test]
+fn a_face_using_a_vertex_twice_is_refused_before_opensubdiv() {
+    let positions = vec![
+        [1.0, 0.0, 0.0],
+        [0.0, 7.0, 2.0],
+        [6.0, 7.0, 1.0],
+        [3.0, 0.0, 1.0],
+        [0.0, 0.0, 0.0],
+        [3.0, 0.0, 0.0],
+    ];
+    let faces = [vec![2, 0, 3, 2, 2, 1, 4], vec![5, 3, 0, 4, 3, 1, 0, 2]];
+    let mesh = PolygonMesh::from_polygons(positions, &faces);
+    let patch = PatchOptions {
+        max_isolation: 2,
+        ..PatchOptions::default()
+    };
+    let Err(e) = limit_surface(&mesh, &SubdivOptions::default(), &patch) else {
+        panic!("a face using a vertex twice was accepted");
+    };
+    assert!(e.to_string().contains("face 0"), "{e}");
+    assert!(refine_uniform(&mesh, 1, &SubdivOptions::default()).is_err());
 }

@@ -63,6 +63,13 @@ impl ControlMesh {
                     face.len()
                 )));
             }
+            // OpenSubdiv's end-cap construction recurses without end on such a face (a
+            // stack overflow found by fuzzing): refuse it here.
+            if let Some(problem) = crate::mesh::io::degeneracy(face) {
+                return Err(invalid(format!(
+                    "face {f}: {problem}; OpenSubdiv cannot refine it (surfkit repair removes it)"
+                )));
+            }
             verts_per_face.push(face.len() as i32);
             if !options.creases.is_empty() {
                 for k in 0..face.len() {
