@@ -15,6 +15,7 @@ pub mod halfedge;
 pub mod limits;
 pub mod linalg;
 pub mod mesh;
+pub mod repair;
 pub mod report;
 pub mod shapes;
 pub mod spline;

@@ -172,3 +172,35 @@ fn crack_tolerance_decides_whether_a_vertex_off_the_edge_is_a_t_vertex() {
         "clap refuses a tolerance outside (0, 1)"
     );
 }
+
+/// Every fix `eat` suggests for the stamp's three flaws is checked by applying it and
+/// found to work; `--no-fix-check` leaves them unchecked.
+#[test]
+fn suggested_fixes_are_checked_by_applying_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("stamp_flaws.obj");
+    let flaws = [
+        surfkit::shapes::StampFlaw::TinyTriangle,
+        surfkit::shapes::StampFlaw::NarrowQuad,
+        surfkit::shapes::StampFlaw::Crack,
+    ];
+    write(&bad, &surfkit::shapes::stamp(&flaws), &Default::default()).unwrap();
+    for (extra, expected) in [(None, Some(true)), (Some("--no-fix-check"), None)] {
+        let mut cmd = surfkit();
+        cmd.args(["eat", "--json"]).arg(&bad);
+        cmd.args(extra);
+        let out = cmd.output().unwrap();
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let list = v["report"]["flaws"].as_array().unwrap();
+        assert_eq!(list.len(), 3);
+        for f in list {
+            assert_eq!(f["fix_verified"].as_bool(), expected, "{f}");
+        }
+    }
+}

@@ -140,6 +140,14 @@ fn no_output_may_name_an_input_another_output_or_a_missing_folder() {
         "refusing to write over the input file",
     );
     refused(
+        &["repair", "{in}", "{in}"],
+        "refusing to write over the input file",
+    );
+    refused(
+        &["repair", "{in}", "{dir}/r.obj", "--mark", "{dir}/r.obj"],
+        "name the same file",
+    );
+    refused(
         &["eat", "{in}", "--reference", "{csv}", "--mark", "{csv}"],
         "refusing to write over the input file",
     );

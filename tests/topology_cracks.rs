@@ -380,3 +380,131 @@ fn a_moebius_strip_has_one_boundary_loop_and_non_orientable_genus_one() {
         assert_eq!(report.counts.non_orientable_genus, Some(1));
     }
 }
+
+/// A flat sliver triangle: its middle corner lies on its long edge, but the facet on that
+/// edge uses it — no T-junction.
+#[test]
+fn a_sliver_facet_is_no_crack() {
+    let positions = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.001], [2.0, 0.0, 0.0]];
+    let report = scan(
+        &PolygonMesh::from_polygons(positions, &[vec![0, 1, 2]]),
+        &EatOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(report.flaw_counts(), vec![(FlawKind::Hole, 1)]);
+}
+
+/// The figure-8 immersion of a Klein bottle, an n × m quad grid whose u-seam meets itself
+/// with v reversed (m odd, so no two grid vertices share a point): χ 0, no boundary, one
+/// non-orientable component with two cross-caps — never "genus 1".
+#[test]
+fn a_klein_bottle_has_non_orientable_genus_two_and_no_orientable_genus() {
+    for (n, m) in [(12usize, 7usize), (20, 9)] {
+        let point = |u: f64, v: f64| {
+            let a = (u / 2.0).cos() * v.sin() - (u / 2.0).sin() * (2.0 * v).sin();
+            let z = (u / 2.0).sin() * v.sin() + (u / 2.0).cos() * (2.0 * v).sin();
+            [(2.0 + a) * u.cos(), (2.0 + a) * u.sin(), z]
+        };
+        let mut positions = Vec::new();
+        for i in 0..n {
+            for j in 0..m {
+                let u = std::f64::consts::TAU * i as f64 / n as f64;
+                let v = std::f64::consts::TAU * j as f64 / m as f64;
+                positions.push(point(u, v));
+            }
+        }
+        // Grid vertex (i, j), with the seam i = n glued to i = 0 upside down.
+        let id = |i: usize, j: usize| -> u32 {
+            let j = j % m;
+            if i == n {
+                ((m - j) % m) as u32
+            } else {
+                (i * m + j) as u32
+            }
+        };
+        let faces: Vec<Vec<u32>> = (0..n)
+            .flat_map(|i| (0..m).map(move |j| (i, j)))
+            .map(|(i, j)| vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)])
+            .collect();
+        let report = scan(
+            &PolygonMesh::from_polygons(positions, &faces),
+            &EatOptions::default(),
+        )
+        .unwrap();
+        let c = &report.counts;
+        assert_eq!(
+            (c.vertices_referenced, c.edges, c.facets),
+            (n * m, 2 * n * m, n * m)
+        );
+        assert_eq!(c.euler_characteristic, 0);
+        assert_eq!(c.boundary_loops, 0);
+        assert_eq!(c.components, 1);
+        assert_eq!(report.components[0].orientable, Some(false));
+        assert_eq!(report.components[0].genus, Some(2), "2 − χ cross-caps");
+        assert_eq!(c.genus, None, "no orientable genus for the whole mesh");
+        assert_eq!(c.non_orientable_genus, Some(2));
+        assert!(
+            report.flaws.iter().all(|f| !f.kind.is_boundary_loop()),
+            "{:?}",
+            report.flaw_counts()
+        );
+    }
+}
+
+/// A fin (a triangle, or a flap of two) hanging on an edge of a closed tetrahedron: its
+/// free border is one chain whose ends meet across the non-manifold edge, walked whole as
+/// one loop — not as loops of one edge and perimeter 0.
+#[test]
+fn a_fin_on_an_edge_has_one_boundary_loop_closed_across_that_edge() {
+    let positions = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [2.0, 1.0, 1.0],
+    ];
+    let tetrahedron = vec![vec![0, 2, 1], vec![0, 1, 3], vec![1, 2, 3], vec![0, 3, 2]];
+    let mut fin = tetrahedron.clone();
+    fin.push(vec![0, 1, 4]);
+    let report = scan(
+        &PolygonMesh::from_polygons(positions[..5].to_vec(), &fin),
+        &EatOptions::default(),
+    )
+    .unwrap();
+    let loops: Vec<_> = report
+        .flaws
+        .iter()
+        .filter(|f| f.kind.is_boundary_loop())
+        .collect();
+    assert_eq!(loops.len(), 1, "{:?}", report.flaw_counts());
+    assert_eq!(report.counts.boundary_loops, 1);
+    let mut border = loops[0].vertices.clone();
+    border.sort_unstable();
+    assert_eq!(border, vec![0, 1, 4]);
+    assert_eq!(loops[0].faces, vec![4], "the fin's own border");
+    assert_eq!(
+        report.flaw_counts().len(),
+        2,
+        "and the non-manifold edge: {:#?}",
+        report.flaws
+    );
+
+    let mut flap = tetrahedron;
+    flap.push(vec![0, 1, 4]);
+    flap.push(vec![4, 1, 5]);
+    let report = scan(
+        &PolygonMesh::from_polygons(positions, &flap),
+        &EatOptions::default(),
+    )
+    .unwrap();
+    let loops: Vec<_> = report
+        .flaws
+        .iter()
+        .filter(|f| f.kind.is_boundary_loop())
+        .collect();
+    assert_eq!(loops.len(), 1, "{:?}", report.flaw_counts());
+    let mut border = loops[0].vertices.clone();
+    border.sort_unstable();
+    assert_eq!(border, vec![0, 1, 4, 5]);
+}

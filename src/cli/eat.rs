@@ -63,6 +63,10 @@ pub struct EatArgs {
     /// Skip building the OpenMesh half-edge structure.
     #[arg(long)]
     pub no_halfedge: bool,
+    /// Do not check the suggested fixes by applying them to a copy (`surfkit repair`)
+    /// and scanning the result again (done only when there are flaws).
+    #[arg(long)]
+    pub no_fix_check: bool,
     /// Print the JSON report (schema in README.md) instead of text.
     #[arg(long, conflicts_with = "jsonl")]
     pub json: bool,
@@ -153,7 +157,10 @@ pub(super) fn scan_file(
         },
         halfedge: !args.no_halfedge,
     };
-    let report = scan(&mesh, &options)?;
+    let mut report = scan(&mesh, &options)?;
+    if !args.no_fix_check {
+        crate::repair::check_fixes(&mesh, &mut report.flaws, options.locator)?;
+    }
     let failing_kinds: Vec<FlawKind> = report
         .flaw_counts()
         .into_iter()
@@ -337,12 +344,17 @@ pub fn render(name: &str, report: &EatReport, show: usize) -> String {
             let p = f.position;
             let _ = writeln!(
                 out,
-                "  {} at ({:.6}, {:.6}, {:.6}): {}\n    fix: {}",
+                "  {} at ({:.6}, {:.6}, {:.6}): {}\n    fix{}: {}",
                 f.kind.name(),
                 p[0],
                 p[1],
                 p[2],
                 f.description,
+                match f.fix_verified {
+                    Some(true) => " (checked by applying it)",
+                    Some(false) => " (applying it did NOT remove the flaw)",
+                    None => "",
+                },
                 f.suggested_fix
             );
         }

@@ -26,6 +26,7 @@ mod fit;
 mod info;
 mod limit;
 mod paper;
+mod repair;
 mod subdivide;
 
 use std::path::{Path, PathBuf};
@@ -57,6 +58,8 @@ enum Command {
     Convert(convert::ConvertArgs),
     /// The Euler Accompanying Test: V, E, F, χ at test points, and every topological flaw.
     Eat(eat::EatArgs),
+    /// Applies the fixes the EAT suggests, checks the result with the EAT again.
+    Repair(repair::RepairArgs),
     /// Uniform Catmull–Clark refinement with OpenSubdiv (quads and refined UVs out).
     Subdivide(subdivide::SubdivideArgs),
     /// Limit-surface samples with mean curvature as quality (a curvature map for MeshLab).
@@ -115,6 +118,7 @@ pub fn main() -> ExitCode {
         Command::Convert(a) => convert::run(a),
         Command::Demo(a) => demo::run(a),
         Command::Eat(a) => eat::run(a),
+        Command::Repair(a) => repair::run(a),
         Command::Subdivide(a) => subdivide::run(a, budget).map(|()| ExitCode::SUCCESS),
         Command::Limit(a) => limit::run(a, budget).map(|()| ExitCode::SUCCESS),
         Command::Fill(a) => fill::run(a).map(|()| ExitCode::SUCCESS),
@@ -149,6 +153,7 @@ impl Command {
             Command::Convert(a) => &a.input,
             Command::Eat(a) if a.many() => return None,
             Command::Eat(a) => &a.meshes[0],
+            Command::Repair(a) => &a.input,
             Command::Subdivide(a) => &a.input,
             Command::Limit(a) => &a.input,
             Command::Fill(a) => &a.spline.input,

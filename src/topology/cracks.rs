@@ -251,7 +251,15 @@ fn walk_pieces(pieces: &[(usize, u32, u32)]) -> Vec<(Vec<u32>, usize)> {
 /// Finds every T-junction of the boundary walks and stitches them. A candidate T-vertex
 /// counts only where stitching glues one of its two pieces of the edge to another
 /// boundary edge (a vertex merely near a border it is not joined to is no crack).
-pub fn stitch_cracks(walks: &[Vec<u32>], positions: &[[f64; 3]], tolerance: f64) -> Stitched {
+///
+/// `facet_uses(a, b, t)`: whether the facet on boundary edge a–b has t as a corner (then t
+/// lies on a–b only because that facet is flat there: a sliver, not a T-junction).
+pub fn stitch_cracks(
+    walks: &[Vec<u32>],
+    positions: &[[f64; 3]],
+    tolerance: f64,
+    facet_uses: impl Fn(u32, u32, u32) -> bool,
+) -> Stitched {
     let mut stitched_walk = vec![false; walks.len()];
     let found = candidates(walks, positions, tolerance);
     if found.is_empty() {
@@ -304,7 +312,7 @@ pub fn stitch_cracks(walks: &[Vec<u32>], positions: &[[f64; 3]], tolerance: f64)
             .collect();
         let score = glued.iter().filter(|&&g| g).count();
         for (i, &(_, v, off)) in on.iter().enumerate() {
-            if !(glued[i] || glued[i + 1]) {
+            if !(glued[i] || glued[i + 1]) || facet_uses(a, b, v) {
                 continue;
             }
             let better = best
@@ -363,7 +371,7 @@ mod tests {
     fn an_isolated_t_junction_is_all_crack() {
         let positions = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
         let walks = vec![vec![1, 0, 2]];
-        let s = stitch_cracks(&walks, &positions, 0.01);
+        let s = stitch_cracks(&walks, &positions, 0.01, |_, _, _| false);
         assert_eq!(s.junctions.len(), 1);
         assert_eq!((s.junctions[0].a, s.junctions[0].b), (1, 0));
         assert_eq!(s.junctions[0].t_vertices, vec![2]);
@@ -374,7 +382,7 @@ mod tests {
     fn a_t_vertex_off_the_line_within_tolerance_counts_and_beyond_it_does_not() {
         for (off, expected) in [(0.004, 1), (0.02, 0)] {
             let positions = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, off, 0.0]];
-            let s = stitch_cracks(&[vec![1, 0, 2]], &positions, 0.01);
+            let s = stitch_cracks(&[vec![1, 0, 2]], &positions, 0.01, |_, _, _| false);
             assert_eq!(s.junctions.len(), expected, "offset {off}");
         }
     }
@@ -395,7 +403,7 @@ mod tests {
             [0.6, 0.6, 0.0],
         ];
         let walks = vec![vec![1, 2, 3, 6, 0, 4, 7, 5, 0]];
-        let s = stitch_cracks(&walks, &positions, 0.01);
+        let s = stitch_cracks(&walks, &positions, 0.01, |_, _, _| false);
         assert_eq!(s.junctions.len(), 1);
         assert_eq!((s.junctions[0].a, s.junctions[0].b), (5, 0));
         assert_eq!(s.junctions[0].t_vertices, vec![7, 4]);
@@ -418,7 +426,7 @@ mod tests {
             [0.0, 1.0, 0.0],
         ];
         let walks = vec![vec![0, 1, 2], vec![3, 4, 5]];
-        let s = stitch_cracks(&walks, &positions, 0.01);
+        let s = stitch_cracks(&walks, &positions, 0.01, |_, _, _| false);
         assert!(s.junctions.is_empty());
         assert!(s.stitched_walk.iter().all(|&x| !x));
     }

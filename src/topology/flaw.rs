@@ -107,4 +107,8 @@ pub struct Flaw {
     pub component: Option<u32>,
     pub description: String,
     pub suggested_fix: String,
+    /// Whether applying the suggested fix (`surfkit::repair`) removed the flaw; None when
+    /// not checked (`surfkit::repair::check_fixes` sets it) or the fix is a judgment.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fix_verified: Option<bool>,
 }

@@ -37,7 +37,8 @@ impl Default for LocatorOptions {
 /// closes one loop per fan (as a half-edge walk does) and a non-orientable strip, whose
 /// boundary half-edges do not chain head to tail, is still one loop. Each loop starts
 /// along its first edge's boundary half-edge (opposite to the facet), so on an orientable
-/// surface the loops run as OpenMesh's boundary walks do.
+/// surface the loops run as OpenMesh's boundary walks do. A chain whose ends meet only
+/// across a non-manifold edge is one loop, closed across that edge.
 pub fn boundary_walks(registry: &EatRegistry, structure: &Structure) -> Vec<Vec<u32>> {
     let (offsets, corners) = registry.facet_arrays();
     let next_corner = |k: u32| {
@@ -74,15 +75,38 @@ pub fn boundary_walks(registry: &EatRegistry, structure: &Structure) -> Vec<Vec<
         let origin = ends[start][0];
         let mut cycle = vec![origin.0];
         let mut at = ends[start][1];
-        while at != origin {
-            let next = at_node[&at].iter().copied().find(|&e| !used[e as usize]);
-            let Some(e) = next else {
-                break; // an open chain (only where an edge has three or more sides)
-            };
+        let mut step = |at: &mut (u32, u32)| {
+            let e = at_node[at].iter().copied().find(|&e| !used[e as usize])?;
             used[e as usize] = true;
-            cycle.push(at.0);
             let [p, q] = ends[e as usize];
-            at = if p == at { q } else { p };
+            *at = if p == *at { q } else { p };
+            Some(())
+        };
+        let mut closed = true;
+        while at != origin {
+            let here = at.0;
+            if step(&mut at).is_none() {
+                closed = false;
+                break;
+            }
+            cycle.push(here);
+        }
+        if !closed {
+            // An open chain (its ends meet only across an edge of three or more sides,
+            // as the free border of a fin does): walked whole, the far end and then
+            // back from the origin, and closed across that edge.
+            let far = at.0;
+            let mut back = Vec::new();
+            let mut at = origin;
+            while step(&mut at).is_some() {
+                back.push(at.0);
+            }
+            back.reverse();
+            back.append(&mut cycle);
+            cycle = back;
+            if cycle.first() != Some(&far) {
+                cycle.push(far);
+            }
         }
         loops.push(cycle);
     }
@@ -160,7 +184,7 @@ fn loop_flaw(
         return Flaw {
             kind: FlawKind::Hole,
             description: format!(
-                "boundary loop of {n} edges around facet {f} alone (an isolated facet), perimeter {:.6}",
+                "boundary loop of {n} edges around facet {f} alone (an isolated facet, or one hanging on a non-manifold edge), perimeter {:.6}",
                 shape.perimeter
             ),
             vertices: cycle,
@@ -168,6 +192,7 @@ fn loop_flaw(
             position,
             shape: Some(shape),
             component,
+            fix_verified: None,
             suggested_fix: format!(
                 "delete facet {f} if it is debris; otherwise its border is the surface's"
             ),
@@ -184,8 +209,9 @@ fn loop_flaw(
         ),
         _ => (
             FlawKind::Hole,
-            "fill the hole (surfkit fill), or leave it if the target surface has this boundary"
-                .to_string(),
+            format!(
+                "fill the hole (surfkit repair --fill-holes {n}, or a smooth patch with surfkit fill), or leave it if the target surface has this boundary"
+            ),
         ),
     };
     Flaw {
@@ -205,6 +231,7 @@ fn loop_flaw(
         position,
         shape: Some(shape),
         component,
+        fix_verified: None,
         suggested_fix: fix,
     }
 }
@@ -277,7 +304,15 @@ pub fn locate_with(
         y.sort_unstable();
         (x == y).then(|| facet_id(f as u32))
     };
-    let stitched = stitch_cracks(&walks, positions, geometry.crack_tolerance);
+    let facet_uses = |a: u32, b: u32, t: u32| {
+        registry.edge_slot(a, b).is_some_and(|e| {
+            structure.sides_of(e as usize).any(|s| {
+                let f = s.facet as usize;
+                corners[offsets[f] as usize..offsets[f + 1] as usize].contains(&t)
+            })
+        })
+    };
+    let stitched = stitch_cracks(&walks, positions, geometry.crack_tolerance, facet_uses);
     for j in &stitched.junctions {
         let faces: Vec<u32> = registry
             .edge_slot(j.a, j.b)
@@ -306,6 +341,7 @@ pub fn locate_with(
                     format!("up to {:.3} % of its length off it", 100.0 * j.offset)
                 }
             ),
+            fix_verified: None,
             suggested_fix: format!(
                 "split edge {{{a}, {b}}} at vertices {ts:?} in facet {faces:?} (insert them between its corners {a} and {b})"
             ),
@@ -341,6 +377,7 @@ pub fn locate_with(
                 shape: None,
                 component: Some(structure.facet_component[first.facet as usize]),
                 description: format!("edge {{{}, {}}} has {} facet sides (ec = {})", item.a, item.b, item.ec, item.ec),
+                fix_verified: None,
                 suggested_fix: format!(
                     "keep two of the facets {faces:?} on this edge; give the others their own copies of vertices {} and {}, or delete duplicates",
                     item.a, item.b
@@ -359,6 +396,7 @@ pub fn locate_with(
                     "facets {faces:?} both run edge {{{}, {}}} the same way",
                     item.a, item.b
                 ),
+                fix_verified: None,
                 suggested_fix: format!(
                     "reverse the corner order of facet {} (and its side of the surface)",
                     faces[1]
@@ -384,6 +422,7 @@ pub fn locate_with(
             shape: None,
             component: None,
             description: format!("vertex {v} joins {fans} separate fans of facets"),
+            fix_verified: None,
             suggested_fix: format!("give each fan at vertex {v} its own copy of the vertex, or fill the gap between the fans"),
         });
     }
@@ -406,6 +445,7 @@ pub fn locate_with(
                     facet_id(first),
                     registry.facet_counter(f)
                 ),
+                fix_verified: None,
                 suggested_fix: format!("delete facet {}", facet_id(f as u32)),
             });
         }
@@ -421,6 +461,7 @@ pub fn locate_with(
                     "facet {} has corners {face:?}: fewer than 3 or a repeated vertex",
                     facet_id(f as u32)
                 ),
+                fix_verified: None,
                 suggested_fix: format!(
                     "delete facet {} or remove its repeated corner",
                     facet_id(f as u32)
@@ -440,6 +481,7 @@ pub fn locate_with(
                 shape: None,
                 component: None,
                 description: format!("vertex {v} is used by no facet"),
+                fix_verified: None,
                 suggested_fix: format!("delete vertex {v}"),
             });
         }
@@ -453,6 +495,7 @@ pub fn locate_with(
             shape: None,
             component: None,
             description: format!("vertex {v} is at the place of vertex {u} but not welded to it"),
+            fix_verified: None,
             suggested_fix: format!("weld vertex {v} into vertex {u}"),
         });
     }

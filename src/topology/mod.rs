@@ -10,7 +10,7 @@
 //!   OpenMesh half-edge structure of the accepted facets.
 
 mod cracks;
-mod disjoint_sets;
+pub(crate) mod disjoint_sets;
 mod flaw;
 mod locator;
 mod mark;
