@@ -68,7 +68,8 @@ pub struct Repaired {
 
 impl Repaired {
     /// The flaws of `after` (the EAT of the repaired mesh) that the repair should have
-    /// removed: those of the repaired kinds (holes up to the size asked for), except the
+    /// removed: those of the repaired kinds (holes up to the size asked for, not the
+    /// border of an isolated facet), except the
     /// coincidence of a split vertex with its copies, which is the repair itself.
     pub fn remaining<'a>(
         &self,
@@ -88,7 +89,11 @@ impl Repaired {
             .flaws
             .iter()
             .filter(|f| options.wants(f.kind))
-            .filter(|f| f.kind != FlawKind::Hole || f.vertices.len() <= options.max_hole_edges)
+            // The border of an isolated facet is no hole to close: it would add the reverse.
+            .filter(|f| {
+                f.kind != FlawKind::Hole
+                    || (f.faces.is_empty() && f.vertices.len() <= options.max_hole_edges)
+            })
             .filter(|f| {
                 f.kind != FlawKind::CoincidentVertices
                     || !split.contains(&(
