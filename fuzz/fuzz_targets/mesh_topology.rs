@@ -3,13 +3,16 @@
 //! lattice and faces of 1 to 8 corners over them, so that fans, bow-ties, Möbius strips,
 //! repeated faces and non-manifold edges of any multiplicity come up at once instead of
 //! behind a parser. Each mesh goes through the EAT (with OpenMesh's half-edge structure),
-//! one level of Catmull–Clark refinement and the limit surface; none may panic, and what they
-//! return must hold together (χ = V − E + F, finite limit points).
+//! the repair of every flaw kind and the check of every suggested fix, one level of
+//! Catmull–Clark refinement and the limit surface; none may panic, and what they return must
+//! hold together (χ = V − E + F, a repaired mesh that keeps the mesh invariants and is left
+//! unchanged when nothing was flawed, finite limit points).
 
 use libfuzzer_sys::fuzz_target;
 use surfkit::mesh::PolygonMesh;
 use surfkit::subdiv::{limit_surface, refine_uniform, PatchOptions, SubdivOptions, SurfacePoint};
-use surfkit::topology::{scan, EatOptions};
+use surfkit::repair::{check_fixes, repair, RepairOptions};
+use surfkit::topology::{scan, EatOptions, FlawKind};
 
 fn mesh_from(bytes: &[u8]) -> Option<PolygonMesh> {
     let (&head, rest) = bytes.split_first()?;
@@ -48,6 +51,18 @@ fuzz_target!(|bytes: &[u8]| {
             c.euler_characteristic,
             c.vertices_referenced as i64 - c.edges as i64 + c.facets as i64
         );
+        let all = RepairOptions {
+            kinds: FlawKind::ALL.to_vec(),
+            max_hole_edges: 8,
+            ..RepairOptions::default()
+        };
+        let repaired = repair(&mesh, &all).expect("a mesh the EAT scanned can be repaired");
+        repaired.mesh.validate().expect("the repaired mesh keeps the invariants");
+        if report.flaws.is_empty() {
+            assert!(repaired.changes.is_empty(), "{:?}", repaired.changes);
+        }
+        let mut flaws = report.flaws.clone();
+        check_fixes(&mesh, &mut flaws, options.locator).expect("fixes can be checked");
     }
     let subdiv = SubdivOptions::default();
     let _ = refine_uniform(&mesh, 1, &subdiv);
