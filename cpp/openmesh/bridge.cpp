@@ -28,11 +28,12 @@ constexpr uint8_t DEGENERATE = 4;
 constexpr uint8_t OTHER = 5;
 
 // OpenMesh writes its complaints to the global omerr() stream, which goes to std::cerr.
-// omerr() is redirected once per process into a router that appends to the calling
-// thread's capture string while a CaptureOmerr is alive there, and forwards to std::cerr
-// otherwise. (Connecting and disconnecting a target per call leaks: OpenMesh's
-// mostream::disconnect never deletes the target it made in connect.) Calls into OpenMesh
-// are serialized by a lock, since omerr()'s line buffer is global.
+// omerr()'s stream buffer is replaced once per process by a router that appends to the
+// calling thread's capture string while a CaptureOmerr is alive there, and forwards to
+// std::cerr otherwise. (Replacing the buffer, not disconnecting std::cerr from OpenMesh's
+// multiplexer and connecting a target: mostream::disconnect never deletes the target it
+// made in connect, a leak LeakSanitizer reports.) Calls into OpenMesh are serialized by a
+// lock, since omerr() is global.
 std::mutex omerr_lock;
 thread_local std::string* omerr_capture = nullptr;
 
@@ -57,10 +58,8 @@ class OmerrRouter : public std::streambuf {
 void install_omerr_router() {
   static const bool installed = [] {
     static OmerrRouter router;
-    static std::ostream routed(&router);
     omerr().flush();
-    omerr().disconnect(std::cerr);
-    omerr().connect(routed);
+    omerr().rdbuf(&router);
     return true;
   }();
   (void)installed;
@@ -118,7 +117,9 @@ bool is_degenerate(const std::vector<PolyMesh::VertexHandle>& vs) {
 // Adds one face; returns its status and appends OpenMesh's message (if any) to `said`.
 uint8_t add_one(HalfEdgeMesh& m, const uint32_t* corners, size_t n, uint32_t input_id,
                 CaptureOmerr& capture, std::string& said) {
-  std::vector<PolyMesh::VertexHandle> vs(n);
+  // The mesh's reused buffer: a fresh vector per face was 4M allocations on 4M faces.
+  std::vector<PolyMesh::VertexHandle>& vs = m.corner_buffer;
+  vs.resize(n);
   for (size_t k = 0; k < n; ++k) {
     if (corners[k] >= m.mesh.n_vertices())
       throw std::out_of_range("face " + std::to_string(input_id) + " refers to vertex " +
@@ -128,12 +129,13 @@ uint8_t add_one(HalfEdgeMesh& m, const uint32_t* corners, size_t n, uint32_t inp
   }
   if (is_degenerate(vs)) return DEGENERATE;
   auto fh = m.mesh.add_face(vs);
-  std::string msg = capture.take();
   if (fh.is_valid()) {
+    // OpenMesh speaks only when it refuses a face: no flush of omerr() per added face.
     m.input_face.push_back(input_id);
     m.first_corner.push_back(corners[0]);
     return ADDED;
   }
+  std::string msg = capture.take();
   if (msg.empty()) msg = "PolyMeshT::add_face: refused without a message\n";
   said += "face " + std::to_string(input_id) + ": " + msg;
   return classify(msg);

@@ -34,6 +34,8 @@ class HalfEdgeMesh {
   /// First corner of each accepted face as given, so that per-corner answers follow the
   /// input's corner order (OpenMesh's face half-edge may start at another corner).
   std::vector<uint32_t> first_corner;
+  // The corners of the face being added (reused: one allocation, not one per face).
+  std::vector<PolyMesh::VertexHandle> corner_buffer;
 
   size_t n_vertices() const;
   size_t n_edges() const;
