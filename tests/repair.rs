@@ -10,39 +10,10 @@ mod common;
 
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
-use surfkit::mesh::io::{read_with, ReadOptions};
 use surfkit::mesh::PolygonMesh;
 use surfkit::repair::{check_fixes, repair, RepairOptions};
 use surfkit::shapes::{stamp, StampFlaw, STAMP_STAGES};
 use surfkit::topology::{scan, EatOptions, EatReport, FlawKind, TargetTopology, TestPoint};
-
-fn clean_meshes() -> Vec<(String, PolygonMesh)> {
-    common::reference_meshes()
-        .into_iter()
-        .filter(|(_, r)| {
-            [
-                "boundary_edges",
-                "non_manifold_edges",
-                "non_manifold_vertices",
-                "unreferenced_vertices",
-                "duplicated_facets",
-                "degenerate_facets",
-                "coincident_vertex_extra",
-                "inconsistent_orientation_edges",
-            ]
-            .iter()
-            .all(|k| common::count(r, k) == 0)
-        })
-        .map(|(p, _)| {
-            let m = read_with(&p, &ReadOptions::default()).unwrap();
-            (p.file_name().unwrap().to_string_lossy().to_string(), m)
-        })
-        .collect()
-}
-
-fn faces_of(m: &PolygonMesh) -> Vec<Vec<u32>> {
-    m.faces().map(<[u32]>::to_vec).collect()
-}
 
 fn eat(mesh: &PolygonMesh) -> EatReport {
     scan(mesh, &EatOptions::default()).unwrap()
@@ -128,7 +99,7 @@ fn plus_triangle(
 
 #[test]
 fn a_clean_mesh_comes_back_unchanged() {
-    for (name, mesh) in clean_meshes() {
+    for (name, mesh) in common::sound_meshes(false) {
         let r = repair(&mesh, &RepairOptions::default()).unwrap();
         assert!(r.changes.is_empty(), "{name}: {:?}", r.changes);
         assert_eq!(r.mesh, mesh, "{name}");
@@ -139,8 +110,8 @@ fn a_clean_mesh_comes_back_unchanged() {
 fn every_injected_flaw_is_repaired_to_the_original_topology() {
     let mut rng = StdRng::seed_from_u64(0x4e_9a14);
     let options = RepairOptions::default();
-    for (name, mesh) in clean_meshes() {
-        let faces = faces_of(&mesh);
+    for (name, mesh) in common::sound_meshes(false) {
+        let faces = common::faces_of(&mesh);
         let pos = mesh.positions.clone();
         let original = topology(&eat(&mesh));
         let pick = |rng: &mut StdRng| rng.random_range(0..faces.len());

@@ -9,43 +9,8 @@ mod common;
 
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
-use surfkit::mesh::io::{read_with, ReadOptions};
 use surfkit::mesh::PolygonMesh;
 use surfkit::topology::{scan, EatOptions, EatReport, FlawKind};
-
-/// The closed meshes with no flaw of any kind (per REFERENCE.json).
-fn clean_meshes() -> Vec<(String, PolygonMesh)> {
-    sound_meshes(false)
-}
-
-/// The meshes whose only flaw is a boundary (`open`) or that have none.
-fn sound_meshes(open: bool) -> Vec<(String, PolygonMesh)> {
-    common::reference_meshes()
-        .into_iter()
-        .filter(|(_, r)| (common::count(r, "boundary_edges") > 0) == open)
-        .filter(|(_, r)| {
-            [
-                "non_manifold_edges",
-                "non_manifold_vertices",
-                "unreferenced_vertices",
-                "duplicated_facets",
-                "degenerate_facets",
-                "coincident_vertex_extra",
-                "inconsistent_orientation_edges",
-            ]
-            .iter()
-            .all(|k| common::count(r, k) == 0)
-        })
-        .map(|(p, _)| {
-            let m = read_with(&p, &ReadOptions::default()).unwrap();
-            (p.file_name().unwrap().to_string_lossy().to_string(), m)
-        })
-        .collect()
-}
-
-fn faces_of(m: &PolygonMesh) -> Vec<Vec<u32>> {
-    m.faces().map(<[u32]>::to_vec).collect()
-}
 
 /// The mesh with every facet around `v` removed: a hole whose rim is `v`'s link.
 fn punch_hole(faces: &[Vec<u32>], v: u32) -> Vec<Vec<u32>> {
@@ -185,8 +150,8 @@ fn assert_one_crack(
 #[test]
 fn isolated_t_junctions_with_one_to_three_vertices_on_and_off_the_line() {
     let mut rng = StdRng::seed_from_u64(0x7_1c);
-    for (name, mesh) in clean_meshes() {
-        let faces = faces_of(&mesh);
+    for (name, mesh) in common::sound_meshes(false) {
+        let faces = common::faces_of(&mesh);
         let base = scan(&mesh, &EatOptions::default()).unwrap();
         for count in 1..=3 {
             for off in [0.0, rng.random_range(0.001..0.005)] {
@@ -229,12 +194,12 @@ fn rim_of(faces: &[Vec<u32>]) -> Vec<u32> {
 #[test]
 fn t_junctions_from_a_hole_rim_or_the_outer_border_leave_that_loop_as_it_is() {
     let mut rng = StdRng::seed_from_u64(0x4013);
-    let meshes = clean_meshes()
+    let meshes = common::sound_meshes(false)
         .into_iter()
         .map(|m| (m, true))
-        .chain(sound_meshes(true).into_iter().map(|m| (m, false)));
+        .chain(common::sound_meshes(true).into_iter().map(|m| (m, false)));
     for ((name, mesh), punch) in meshes {
-        let faces = faces_of(&mesh);
+        let faces = common::faces_of(&mesh);
         for round in 0..3 {
             // A hole around a random vertex (closed meshes), then an edge leaving a rim.
             let holed = if punch {
@@ -290,8 +255,11 @@ fn t_junctions_from_a_hole_rim_or_the_outer_border_leave_that_loop_as_it_is() {
 #[test]
 fn a_missing_triangle_far_from_any_edge_line_is_no_crack() {
     let mut rng = StdRng::seed_from_u64(0x3a);
-    for (name, mesh) in clean_meshes().into_iter().chain(sound_meshes(true)) {
-        let faces = faces_of(&mesh);
+    for (name, mesh) in common::sound_meshes(false)
+        .into_iter()
+        .chain(common::sound_meshes(true))
+    {
+        let faces = common::faces_of(&mesh);
         let base = scan(&mesh, &EatOptions::default()).unwrap();
         let triangles: Vec<usize> = (0..faces.len()).filter(|&f| faces[f].len() == 3).collect();
         if triangles.is_empty() {

@@ -6,34 +6,8 @@ mod common;
 
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
-use surfkit::mesh::io::{read_with, ReadOptions};
 use surfkit::mesh::PolygonMesh;
 use surfkit::topology::{scan, EatOptions, EatReport, Flaw, FlawKind};
-
-/// The closed meshes with no flaw of any kind (per REFERENCE.json).
-fn clean_meshes() -> Vec<(String, PolygonMesh)> {
-    common::reference_meshes()
-        .into_iter()
-        .filter(|(_, r)| {
-            common::count(r, "boundary_edges") == 0
-                && common::count(r, "non_manifold_edges") == 0
-                && common::count(r, "non_manifold_vertices") == 0
-                && common::count(r, "unreferenced_vertices") == 0
-                && common::count(r, "duplicated_facets") == 0
-                && common::count(r, "degenerate_facets") == 0
-                && common::count(r, "coincident_vertex_extra") == 0
-                && common::count(r, "inconsistent_orientation_edges") == 0
-        })
-        .map(|(p, _)| {
-            let m = read_with(&p, &ReadOptions::default()).unwrap();
-            (p.file_name().unwrap().to_string_lossy().to_string(), m)
-        })
-        .collect()
-}
-
-fn faces_of(m: &PolygonMesh) -> Vec<Vec<u32>> {
-    m.faces().map(<[u32]>::to_vec).collect()
-}
 
 fn rebuild(positions: Vec<[f64; 3]>, faces: &[Vec<u32>]) -> PolygonMesh {
     PolygonMesh::from_polygons(positions, faces)
@@ -65,7 +39,7 @@ fn random_shared_edge(faces: &[Vec<u32>], rng: &mut StdRng) -> (usize, usize, u3
 
 #[test]
 fn clean_originals_report_nothing() {
-    for (name, mesh) in clean_meshes() {
+    for (name, mesh) in common::sound_meshes(false) {
         let report = scan(&mesh, &EatOptions::default()).unwrap();
         assert!(
             report.flaws.is_empty(),
@@ -78,10 +52,10 @@ fn clean_originals_report_nothing() {
 #[test]
 fn each_injected_flaw_is_found_with_its_kind_and_ids() {
     let mut rng = StdRng::seed_from_u64(20_200_228);
-    let meshes = clean_meshes();
+    let meshes = common::sound_meshes(false);
     assert!(meshes.len() >= 4, "need several clean meshes");
     for (name, mesh) in &meshes {
-        let faces = faces_of(mesh);
+        let faces = common::faces_of(mesh);
         let positions = mesh.positions.clone();
 
         // A facet left out: a missing triangle or quad (or a hole for larger facets).

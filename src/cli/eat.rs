@@ -289,17 +289,7 @@ pub fn render(name: &str, report: &EatReport, show: usize) -> String {
         c.boundary_loops,
         c.boundary_loops_walk
             .map_or("undefined".into(), |w| w.to_string()),
-        match (c.genus, c.non_orientable_genus) {
-            (Some(g), _) => g.to_string(),
-            (None, Some(k)) => format!("non-orientable {k}"),
-            _ if report
-                .components
-                .iter()
-                .any(|c| c.orientable == Some(false))
-                && report.components.iter().all(|c| c.manifold) =>
-                "per component (orientable and non-orientable)".into(),
-            _ => "undefined (non-manifold)".into(),
-        }
+        genus_text(report)
     );
     for (i, comp) in report.components.iter().enumerate().take(show) {
         let _ = writeln!(
@@ -367,4 +357,22 @@ pub fn render(name: &str, report: &EatReport, show: usize) -> String {
         }
     }
     out
+}
+
+/// The whole mesh's genus as the summaries print it.
+pub(super) fn genus_text(report: &EatReport) -> String {
+    let c = &report.counts;
+    match (c.genus, c.non_orientable_genus) {
+        (Some(g), _) => g.to_string(),
+        (None, Some(k)) => format!("non-orientable {k}"),
+        _ if report
+            .components
+            .iter()
+            .any(|c| c.orientable == Some(false))
+            && report.components.iter().all(|c| c.manifold) =>
+        {
+            "per component (orientable and non-orientable)".into()
+        }
+        _ => "undefined (non-manifold)".into(),
+    }
 }

@@ -15,7 +15,7 @@ use crate::mesh::PolygonMesh;
 use crate::repair::{repair, Change, RepairOptions, Repaired};
 use crate::topology::{
     mark_flaws, scan, stage_ends, test_points, EatOptions, EatReport, Flaw, FlawKind,
-    LocatorOptions, StageSource, TargetTopology, TopologyCounts,
+    LocatorOptions, StageSource, TargetTopology,
 };
 
 #[derive(clap::Args, Debug)]
@@ -129,7 +129,8 @@ fn changed_vertices(changes: &[Change]) -> Vec<Flaw> {
         .collect()
 }
 
-fn counts_line(c: &TopologyCounts) -> String {
+fn counts_line(report: &EatReport) -> String {
+    let c = &report.counts;
     format!(
         "V {} E {} F {} χ {}  boundary loops {}  components {}  genus {}",
         c.vertices_referenced,
@@ -138,11 +139,7 @@ fn counts_line(c: &TopologyCounts) -> String {
         c.euler_characteristic,
         c.boundary_loops,
         c.components,
-        match (c.genus, c.non_orientable_genus) {
-            (Some(g), _) => g.to_string(),
-            (None, Some(k)) => format!("non-orientable {k}"),
-            _ => "undefined".into(),
-        }
+        super::eat::genus_text(report)
     )
 }
 
@@ -160,8 +157,8 @@ fn render(
         args.input.display(),
         args.output.display()
     );
-    let _ = writeln!(out, "before: {}", counts_line(&before.counts));
-    let _ = writeln!(out, "after:  {}", counts_line(&after.counts));
+    let _ = writeln!(out, "before: {}", counts_line(before));
+    let _ = writeln!(out, "after:  {}", counts_line(after));
     let flaws = |r: &EatReport| {
         let c: Vec<String> = r
             .flaw_counts()

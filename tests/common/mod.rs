@@ -31,6 +31,35 @@ pub fn count(record: &Value, field: &str) -> usize {
         as usize
 }
 
+/// The reference meshes, read, whose only flaw is a boundary (`open`) or that have no flaw
+/// of any kind (`!open`, closed), with their file names.
+pub fn sound_meshes(open: bool) -> Vec<(String, surfkit::mesh::PolygonMesh)> {
+    let flaws = [
+        "non_manifold_edges",
+        "non_manifold_vertices",
+        "unreferenced_vertices",
+        "duplicated_facets",
+        "degenerate_facets",
+        "coincident_vertex_extra",
+        "inconsistent_orientation_edges",
+    ];
+    reference_meshes()
+        .into_iter()
+        .filter(|(_, r)| (count(r, "boundary_edges") > 0) == open)
+        .filter(|(_, r)| flaws.iter().all(|k| count(r, k) == 0))
+        .map(|(p, _)| {
+            let options = surfkit::mesh::io::ReadOptions::default();
+            let m = surfkit::mesh::io::read_with(&p, &options).unwrap();
+            (p.file_name().unwrap().to_string_lossy().to_string(), m)
+        })
+        .collect()
+}
+
+/// A mesh's faces as owned corner lists (to edit and rebuild).
+pub fn faces_of(m: &surfkit::mesh::PolygonMesh) -> Vec<Vec<u32>> {
+    m.faces().map(<[u32]>::to_vec).collect()
+}
+
 /// The Python with the peers (pymeshlab, trimesh) that `scripts/setup.sh` installs:
 /// `SURFKIT_PYTHON`, or the repository's `.venv`.
 pub fn peer_python() -> PathBuf {
