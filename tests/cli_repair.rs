@@ -125,7 +125,8 @@ fn a_missing_triangle_is_closed_by_default_and_a_two_edge_hole_bound_refused() {
         String::from_utf8_lossy(&ok.stdout)
     );
     let text = String::from_utf8_lossy(&ok.stdout);
-    assert!(text.contains("verified"), "{text}");
+    assert!(text.contains("\nverified: "), "{text}");
+    assert!(!text.contains("NOT verified"), "{text}");
 }
 
 #[test]

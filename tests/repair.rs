@@ -12,8 +12,8 @@ use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use surfkit::mesh::PolygonMesh;
 use surfkit::repair::{check_fixes, repair, RepairOptions};
-use surfkit::shapes::{stamp, StampFlaw, STAMP_STAGES};
-use surfkit::topology::{scan, EatOptions, EatReport, FlawKind, TargetTopology, TestPoint};
+use surfkit::shapes::{stamp, StampFlaw};
+use surfkit::topology::{scan, EatOptions, EatReport, FlawKind};
 
 fn eat(mesh: &PolygonMesh) -> EatReport {
     scan(mesh, &EatOptions::default()).unwrap()
@@ -253,37 +253,6 @@ fn every_injected_flaw_is_repaired_to_the_original_topology() {
     }
 }
 
-/// Stage test points from the stamp's OBJ groups, with the paper's targets.
-fn staged(mesh: &PolygonMesh) -> EatOptions {
-    let groups = mesh.groups.as_ref().unwrap();
-    let targets = [
-        "genus=0,boundaries=3",
-        "genus=0,boundaries=2",
-        "genus=0,boundaries=1",
-        "genus=0",
-    ];
-    let test_points = targets
-        .iter()
-        .enumerate()
-        .map(|(stage, target)| TestPoint {
-            label: STAMP_STAGES[stage].0.to_string(),
-            facets: groups
-                .of_face
-                .iter()
-                .rposition(|&g| g == stage as u32)
-                .unwrap()
-                + 1,
-            expected: TargetTopology::parse(target)
-                .unwrap()
-                .euler_characteristic(),
-        })
-        .collect();
-    EatOptions {
-        test_points,
-        ..Default::default()
-    }
-}
-
 #[test]
 fn the_stamp_loses_its_three_flaws_and_its_test_points_verify() {
     let broken = stamp(&[
@@ -291,12 +260,12 @@ fn the_stamp_loses_its_three_flaws_and_its_test_points_verify() {
         StampFlaw::NarrowQuad,
         StampFlaw::Crack,
     ]);
-    let before = scan(&broken, &staged(&broken)).unwrap();
+    let before = scan(&broken, &common::stamp_stages(&broken)).unwrap();
     assert_eq!(before.flaws.len(), 3);
     assert!(!before.verified());
     let repaired = repair(&broken, &RepairOptions::default()).unwrap();
     assert_eq!(repaired.changes.len(), 3, "{:#?}", repaired.changes);
-    let after = scan(&repaired.mesh, &staged(&repaired.mesh)).unwrap();
+    let after = scan(&repaired.mesh, &common::stamp_stages(&repaired.mesh)).unwrap();
     assert!(after.flaws.is_empty(), "{:?}", after.flaw_counts());
     assert!(after.verified(), "{:#?}", after.checkpoints);
     let clean = stamp(&[]);

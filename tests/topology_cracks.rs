@@ -424,7 +424,7 @@ fn a_klein_bottle_has_non_orientable_genus_two_and_no_orientable_genus() {
 /// one loop — not as loops of one edge and perimeter 0.
 #[test]
 fn a_fin_on_an_edge_has_one_boundary_loop_closed_across_that_edge() {
-    let positions = vec![
+    let positions = [
         [0.0, 0.0, 0.0],
         [1.0, 0.0, 0.0],
         [0.0, 1.0, 0.0],
@@ -433,46 +433,34 @@ fn a_fin_on_an_edge_has_one_boundary_loop_closed_across_that_edge() {
         [2.0, 1.0, 1.0],
     ];
     let tetrahedron = vec![vec![0, 2, 1], vec![0, 1, 3], vec![1, 2, 3], vec![0, 3, 2]];
-    let mut fin = tetrahedron.clone();
-    fin.push(vec![0, 1, 4]);
-    let report = scan(
-        &PolygonMesh::from_polygons(positions[..5].to_vec(), &fin),
-        &EatOptions::default(),
-    )
-    .unwrap();
-    let loops: Vec<_> = report
-        .flaws
-        .iter()
-        .filter(|f| f.kind.is_boundary_loop())
-        .collect();
-    assert_eq!(loops.len(), 1, "{:?}", report.flaw_counts());
+    // The report and its one boundary loop (sorted vertices, faces) of the tetrahedron
+    // with `extra` facets on its edge {0, 1}, over the first `vertices` positions.
+    let one_loop = |extra: &[Vec<u32>], vertices: usize| {
+        let mut faces = tetrahedron.clone();
+        faces.extend_from_slice(extra);
+        let mesh = PolygonMesh::from_polygons(positions[..vertices].to_vec(), &faces);
+        let report = scan(&mesh, &EatOptions::default()).unwrap();
+        let loops: Vec<_> = report
+            .flaws
+            .iter()
+            .filter(|f| f.kind.is_boundary_loop())
+            .collect();
+        assert_eq!(loops.len(), 1, "{:?}", report.flaw_counts());
+        let mut border = loops[0].vertices.clone();
+        border.sort_unstable();
+        let faces = loops[0].faces.clone();
+        (report, border, faces)
+    };
+    let (report, border, faces) = one_loop(&[vec![0, 1, 4]], 5);
     assert_eq!(report.counts.boundary_loops, 1);
-    let mut border = loops[0].vertices.clone();
-    border.sort_unstable();
     assert_eq!(border, vec![0, 1, 4]);
-    assert_eq!(loops[0].faces, vec![4], "the fin's own border");
+    assert_eq!(faces, vec![4], "the fin's own border");
     assert_eq!(
         report.flaw_counts().len(),
         2,
         "and the non-manifold edge: {:#?}",
         report.flaws
     );
-
-    let mut flap = tetrahedron;
-    flap.push(vec![0, 1, 4]);
-    flap.push(vec![4, 1, 5]);
-    let report = scan(
-        &PolygonMesh::from_polygons(positions, &flap),
-        &EatOptions::default(),
-    )
-    .unwrap();
-    let loops: Vec<_> = report
-        .flaws
-        .iter()
-        .filter(|f| f.kind.is_boundary_loop())
-        .collect();
-    assert_eq!(loops.len(), 1, "{:?}", report.flaw_counts());
-    let mut border = loops[0].vertices.clone();
-    border.sort_unstable();
+    let (_, border, _) = one_loop(&[vec![0, 1, 4], vec![4, 1, 5]], 6);
     assert_eq!(border, vec![0, 1, 4, 5]);
 }

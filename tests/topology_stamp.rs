@@ -2,45 +2,14 @@
 //! stages end at χ = −1, 0, 1, 2 (§4.4), and each of the three flaws of §4.1–4.3 makes
 //! the stage it is drawn in fail, and is located.
 
-use surfkit::shapes::{stamp, StampFlaw, STAMP_STAGES};
-use surfkit::topology::{scan, EatOptions, EatReport, FlawKind, TargetTopology, TestPoint};
+mod common;
 
-/// Test points at the end of each stage (from the OBJ groups), with χ from the target
-/// topology the paper names at each stage: a disk with two, one and no inside holes, then
-/// a ball.
-fn staged(mesh: &surfkit::mesh::PolygonMesh) -> EatOptions {
-    let groups = mesh.groups.as_ref().unwrap();
-    let targets = [
-        "genus=0,boundaries=3",
-        "genus=0,boundaries=2",
-        "genus=0,boundaries=1",
-        "genus=0",
-    ];
-    let mut test_points = Vec::new();
-    for (stage, target) in targets.iter().enumerate() {
-        let end = groups
-            .of_face
-            .iter()
-            .rposition(|&g| g == stage as u32)
-            .unwrap()
-            + 1;
-        test_points.push(TestPoint {
-            label: STAMP_STAGES[stage].0.to_string(),
-            facets: end,
-            expected: TargetTopology::parse(target)
-                .unwrap()
-                .euler_characteristic(),
-        });
-    }
-    EatOptions {
-        test_points,
-        ..Default::default()
-    }
-}
+use surfkit::shapes::{stamp, StampFlaw};
+use surfkit::topology::{scan, EatReport, FlawKind};
 
 fn run(flaws: &[StampFlaw]) -> EatReport {
     let mesh = stamp(flaws);
-    scan(&mesh, &staged(&mesh)).unwrap()
+    scan(&mesh, &common::stamp_stages(&mesh)).unwrap()
 }
 
 #[test]

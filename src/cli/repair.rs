@@ -12,7 +12,7 @@ use super::eat::TEST_FAILED;
 use crate::error::{Error, Result};
 use crate::mesh::io::{read_with, write, ReadOptions, WriteOptions};
 use crate::mesh::PolygonMesh;
-use crate::repair::{repair, Change, RepairOptions, Repaired};
+use crate::repair::{repair_located, Change, RepairOptions, Repaired};
 use crate::topology::{
     mark_flaws, scan, stage_ends, test_points, EatOptions, EatReport, Flaw, FlawKind,
     LocatorOptions, StageSource, TargetTopology,
@@ -245,7 +245,7 @@ pub fn run(args: &RepairArgs) -> Result<ExitCode> {
             ..Default::default()
         },
     )?;
-    let repaired = repair(&mesh, &options)?;
+    let repaired = repair_located(&mesh, &before.flaws, &options)?;
     let after = check(&repaired.mesh, args, options.locator)?;
     write(&args.output, &repaired.mesh, &WriteOptions::default())?;
     if let Some(mark) = &args.mark {

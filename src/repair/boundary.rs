@@ -6,33 +6,33 @@
 use foldhash::{HashMap as FxHashMap, HashMapExt};
 
 use super::change::{Action, Change};
-use super::editable::{Editable, Live};
+use super::editable::Editable;
 use crate::topology::{Flaw, FlawKind};
 
 /// Directed edges of the live facets → the facet ids running them.
 fn directed_edges(mesh: &Editable) -> FxHashMap<(u32, u32), Vec<u32>> {
     let mut edges: FxHashMap<(u32, u32), Vec<u32>> = FxHashMap::new();
-    for (f, corners) in mesh.faces.iter().enumerate() {
-        let Some(c) = corners else { continue };
-        for k in 0..c.len() {
-            edges
-                .entry((c[k], c[(k + 1) % c.len()]))
-                .or_default()
-                .push(f as u32);
-        }
+    for e in mesh.edges() {
+        edges.entry((e.from, e.to)).or_default().push(e.facet);
     }
     edges
 }
 
-/// Inserts each crack's T-vertices into the facet that uses its edge.
-pub fn split_cracks(mesh: &mut Editable, live: &Live, flaws: &[Flaw], changes: &mut Vec<Change>) {
+/// Inserts each crack's T-vertices into the facet that uses its edge. `facet_ids` maps the
+/// facet positions of the mesh the flaws were found on to facet ids.
+pub fn split_cracks(
+    mesh: &mut Editable,
+    facet_ids: &[u32],
+    flaws: &[Flaw],
+    changes: &mut Vec<Change>,
+) {
     for flaw in flaws.iter().filter(|f| f.kind == FlawKind::Crack) {
         let (a, b) = (flaw.vertices[0], flaw.vertices[1]);
         let ts = &flaw.vertices[2..];
         let Some(&facet) = flaw.faces.first() else {
             continue;
         };
-        let f = live.facet_ids[facet as usize];
+        let f = facet_ids[facet as usize];
         let Some(corners) = mesh.faces[f as usize].as_mut() else {
             continue;
         };

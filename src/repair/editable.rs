@@ -20,6 +20,15 @@ pub struct Editable {
     pub input_faces: usize,
 }
 
+/// One edge of a facet: from its corner `corner` to the next one.
+pub struct FacetEdge {
+    pub facet: u32,
+    pub corner: usize,
+    pub next_corner: usize,
+    pub from: u32,
+    pub to: u32,
+}
+
 /// The live facets as a mesh (all vertices, ids unchanged) and, per position in it, the
 /// facet id.
 pub struct Live {
@@ -54,6 +63,26 @@ impl Editable {
         }
         order.retain(|&f| self.faces[f as usize].is_some());
         order
+    }
+
+    /// Every edge of the live facets, in corner order.
+    pub fn edges(&self) -> impl Iterator<Item = FacetEdge> + '_ {
+        self.faces
+            .iter()
+            .enumerate()
+            .filter_map(|(f, c)| c.as_ref().map(|c| (f as u32, c)))
+            .flat_map(|(facet, c)| {
+                (0..c.len()).map(move |corner| {
+                    let next_corner = (corner + 1) % c.len();
+                    FacetEdge {
+                        facet,
+                        corner,
+                        next_corner,
+                        from: c[corner],
+                        to: c[next_corner],
+                    }
+                })
+            })
     }
 
     pub fn live(&self) -> Live {

@@ -7,7 +7,7 @@
 
 use foldhash::{HashSet, HashSetExt};
 
-use super::{repair, RepairOptions};
+use super::{repair_located, RepairOptions};
 use crate::error::Result;
 use crate::mesh::PolygonMesh;
 use crate::topology::{scan, EatOptions, Flaw, FlawKind, LocatorOptions};
@@ -21,7 +21,7 @@ fn has_automatic_fix(flaw: &Flaw) -> bool {
 /// `fix_verified`. `flaws` are those the EAT found on `mesh` with `locator`.
 ///
 /// # Errors
-/// What [`repair`] and [`scan`] return on a mesh that breaks its invariants.
+/// What [`repair_located`] and [`scan`] return on a mesh that breaks its invariants.
 pub fn check_fixes(mesh: &PolygonMesh, flaws: &mut [Flaw], locator: LocatorOptions) -> Result<()> {
     if flaws.is_empty() {
         return Ok(());
@@ -37,7 +37,7 @@ pub fn check_fixes(mesh: &PolygonMesh, flaws: &mut [Flaw], locator: LocatorOptio
         max_hole_edges: largest_hole,
         locator,
     };
-    let repaired = repair(mesh, &options)?;
+    let repaired = repair_located(mesh, flaws, &options)?;
     let after = scan(
         &repaired.mesh,
         &EatOptions {

@@ -54,29 +54,19 @@ pub fn split_fans(mesh: &mut Editable, edges: bool, vertices: bool, changes: &mu
         }
     }
     let mut by_edge: FxHashMap<(u32, u32), Vec<Side>> = FxHashMap::new();
-    for (f, c) in mesh.faces.iter().enumerate() {
-        let Some(c) = c else { continue };
-        for k in 0..c.len() {
-            let (p, q) = (c[k], c[(k + 1) % c.len()]);
-            let (kp, kq) = (
-                first_corner[f] + k as u32,
-                first_corner[f] + ((k + 1) % c.len()) as u32,
-            );
-            let side = if p < q {
-                Side {
-                    at_lo: kp,
-                    at_hi: kq,
-                    forward: true,
-                }
-            } else {
-                Side {
-                    at_lo: kq,
-                    at_hi: kp,
-                    forward: false,
-                }
-            };
-            by_edge.entry((p.min(q), p.max(q))).or_default().push(side);
-        }
+    for e in mesh.edges() {
+        let base = first_corner[e.facet as usize];
+        let (kp, kq) = (base + e.corner as u32, base + e.next_corner as u32);
+        let forward = e.from < e.to;
+        let (at_lo, at_hi) = if forward { (kp, kq) } else { (kq, kp) };
+        by_edge
+            .entry((e.from.min(e.to), e.from.max(e.to)))
+            .or_default()
+            .push(Side {
+                at_lo,
+                at_hi,
+                forward,
+            });
     }
     let mut sets = DisjointSets::new(corner_of.len());
     let mut nm_ends: FxHashSet<u32> = FxHashSet::default();
@@ -94,7 +84,7 @@ pub fn split_fans(mesh: &mut Editable, edges: bool, vertices: bool, changes: &mu
         }
     }
     // Per vertex: its fans (root → corners), the first kept.
-    let mut fans: FxHashMap<u32, Vec<(u32, Vec<u32>)>> = FxHashMap::new();
+    let mut fans: FxHashMap<u32, Vec<Fan>> = FxHashMap::new();
     for (k, &(f, i)) in corner_of.iter().enumerate() {
         let v = mesh.faces[f as usize].as_ref().map_or(0, |c| c[i]);
         let root = sets.find(k as u32);

@@ -23,7 +23,7 @@ pub use fix_check::check_fixes;
 
 use crate::error::Result;
 use crate::mesh::PolygonMesh;
-use crate::topology::{scan, EatOptions, EatReport, FlawKind, LocatorOptions};
+use crate::topology::{scan, EatOptions, EatReport, Flaw, FlawKind, LocatorOptions};
 
 /// What to repair.
 #[derive(Debug, Clone, PartialEq)]
@@ -71,11 +71,7 @@ impl Repaired {
     /// removed: those of the repaired kinds (holes up to the size asked for, not the
     /// border of an isolated facet), except the
     /// coincidence of a split vertex with its copies, which is the repair itself.
-    pub fn remaining<'a>(
-        &self,
-        after: &'a EatReport,
-        options: &RepairOptions,
-    ) -> Vec<&'a crate::topology::Flaw> {
+    pub fn remaining<'a>(&self, after: &'a EatReport, options: &RepairOptions) -> Vec<&'a Flaw> {
         let split: std::collections::HashSet<(u32, u32)> = self
             .changes
             .iter()
@@ -105,7 +101,7 @@ impl Repaired {
     }
 }
 
-fn flaws_of(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Vec<crate::topology::Flaw>> {
+fn flaws_of(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Vec<Flaw>> {
     let report = scan(
         mesh,
         &EatOptions {
@@ -125,10 +121,23 @@ fn flaws_of(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Vec<crate::to
 /// # Errors
 /// [`crate::Error::InvalidInput`] when the mesh breaks its invariants.
 pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired> {
+    repair_located(mesh, &flaws_of(mesh, options)?, options)
+}
+
+/// [`repair`] for a caller that has already run the EAT on `mesh` with
+/// `options.locator`: `flaws` are its flaws, so the input is not scanned again.
+///
+/// # Errors
+/// [`crate::Error::InvalidInput`] when the mesh breaks its invariants.
+pub fn repair_located(
+    mesh: &PolygonMesh,
+    flaws: &[Flaw],
+    options: &RepairOptions,
+) -> Result<Repaired> {
     let mut edit = editable::Editable::new(mesh);
     let mut changes = Vec::new();
     if options.wants(FlawKind::CoincidentVertices) {
-        facets::weld(&mut edit, &flaws_of(mesh, options)?, &mut changes);
+        facets::weld(&mut edit, flaws, &mut changes);
     }
     if options.wants(FlawKind::DegenerateFacet) || !changes.is_empty() {
         // Welding can fold a facet onto itself: cleaning it is part of the weld.
@@ -137,12 +146,19 @@ pub fn repair(mesh: &PolygonMesh, options: &RepairOptions) -> Result<Repaired> {
     if options.wants(FlawKind::DuplicatedFacet) {
         facets::delete_duplicates(&mut edit, &mut changes);
     }
-    let live = edit.live();
-    let flaws: Vec<_> = flaws_of(&live.mesh, options)?
+    // The boundary fixes need the flaws of the mesh these facet fixes left: the input's
+    // when they changed nothing.
+    let (later, facet_ids) = if changes.is_empty() {
+        (flaws.to_vec(), edit.output_order())
+    } else {
+        let live = edit.live();
+        (flaws_of(&live.mesh, options)?, live.facet_ids)
+    };
+    let flaws: Vec<Flaw> = later
         .into_iter()
         .filter(|f| options.wants(f.kind))
         .collect();
-    boundary::split_cracks(&mut edit, &live, &flaws, &mut changes);
+    boundary::split_cracks(&mut edit, &facet_ids, &flaws, &mut changes);
     boundary::close_loops(&mut edit, &flaws, options.max_hole_edges, &mut changes);
     let (edges, vertices) = (
         options.wants(FlawKind::NonManifoldEdge),

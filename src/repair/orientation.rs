@@ -13,15 +13,11 @@ use crate::topology::FlawKind;
 
 pub fn orient(mesh: &mut Editable, changes: &mut Vec<Change>) {
     let mut by_edge: FxHashMap<(u32, u32), Vec<(u32, bool)>> = FxHashMap::new();
-    for (f, c) in mesh.faces.iter().enumerate() {
-        let Some(c) = c else { continue };
-        for k in 0..c.len() {
-            let (p, q) = (c[k], c[(k + 1) % c.len()]);
-            by_edge
-                .entry((p.min(q), p.max(q)))
-                .or_default()
-                .push((f as u32, p < q));
-        }
+    for e in mesh.edges() {
+        by_edge
+            .entry((e.from.min(e.to), e.from.max(e.to)))
+            .or_default()
+            .push((e.facet, e.from < e.to));
     }
     // Neighbours through two-sided edges, with whether they must differ in flip.
     let mut neighbours: Vec<Vec<(u32, bool)>> = vec![Vec::new(); mesh.faces.len()];

@@ -60,6 +60,39 @@ pub fn faces_of(m: &surfkit::mesh::PolygonMesh) -> Vec<Vec<u32>> {
     m.faces().map(<[u32]>::to_vec).collect()
 }
 
+/// Test points at the end of each stage (from the OBJ groups), with χ from the target
+/// topology the paper names at each stage: a disk with two, one and no inside holes, then
+/// a ball.
+pub fn stamp_stages(mesh: &surfkit::mesh::PolygonMesh) -> surfkit::topology::EatOptions {
+    let groups = mesh.groups.as_ref().unwrap();
+    let targets = [
+        "genus=0,boundaries=3",
+        "genus=0,boundaries=2",
+        "genus=0,boundaries=1",
+        "genus=0",
+    ];
+    let mut test_points = Vec::new();
+    for (stage, target) in targets.iter().enumerate() {
+        let end = groups
+            .of_face
+            .iter()
+            .rposition(|&g| g == stage as u32)
+            .unwrap()
+            + 1;
+        test_points.push(surfkit::topology::TestPoint {
+            label: surfkit::shapes::STAMP_STAGES[stage].0.to_string(),
+            facets: end,
+            expected: surfkit::topology::TargetTopology::parse(target)
+                .unwrap()
+                .euler_characteristic(),
+        });
+    }
+    surfkit::topology::EatOptions {
+        test_points,
+        ..Default::default()
+    }
+}
+
 /// The Python with the peers (pymeshlab, trimesh) that `scripts/setup.sh` installs:
 /// `SURFKIT_PYTHON`, or the repository's `.venv`.
 pub fn peer_python() -> PathBuf {
