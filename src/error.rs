@@ -90,6 +90,14 @@ pub enum Error {
         limit: u64,
         advice: String,
     },
+    /// An operation would pass a bound on its work that is not memory (stencil weights of a
+    /// limit surface, …): `limit` names the bound and how to raise it.
+    #[error("{what} needs more than {limit} ({advice})")]
+    WorkLimit {
+        what: String,
+        limit: String,
+        advice: String,
+    },
     /// The mesh's topology does not allow the operation.
     #[error("topology: {0}")]
     Topology(String),

@@ -1,7 +1,8 @@
 //! The limit surface around vertices of high valence and under a memory limit: the apex of
 //! a cone fan (valence up to 1000, which OpenSubdiv's own stencil factory could not build in
-//! minutes) against the Catmull–Clark limit-position formula, and the memory budget lowering
-//! the isolation level or refusing the surface; faces OpenSubdiv cannot take are refused.
+//! minutes) against the Catmull–Clark limit-position formula, and the memory and work budgets
+//! lowering the isolation level or refusing the surface; faces OpenSubdiv cannot take are
+//! refused.
 
 use surfkit::limits::MemoryBudget;
 use surfkit::mesh::PolygonMesh;
@@ -118,13 +119,15 @@ fn a_memory_limit_lowers_the_isolation_or_refuses_with_the_limit() {
             &PatchOptions {
                 max_isolation: 4,
                 memory: MemoryBudget::bytes(bytes),
+                ..PatchOptions::default()
             },
         )
     };
     let full = with(1 << 34).unwrap();
     assert_eq!(full.isolation(), 4);
-    // With 48 MiB the stencils of level 4 do not fit (measured: neither do level 3's).
-    let lowered = with(48 << 20).unwrap();
+    // With 96 MiB the stencils of level 4 do not fit (the end caps of level 1 are estimated
+    // at a million weights, 24 MB).
+    let lowered = with(96 << 20).unwrap();
     assert!(
         (1..4).contains(&lowered.isolation()),
         "{}",
@@ -155,6 +158,55 @@ fn a_memory_limit_lowers_the_isolation_or_refuses_with_the_limit() {
         }
         Err(e) => panic!("wrong error: {e}"),
         Ok(s) => panic!("1 MiB accepted at isolation {}", s.isolation()),
+    }
+}
+
+#[test]
+fn a_work_limit_lowers_the_isolation_or_refuses_naming_its_option() {
+    // Every vertex of a triangle mesh is extraordinary: its end caps carry most weights.
+    let mesh = triangle_grid(24);
+    let options = SubdivOptions::default();
+    let with = |weights: usize| {
+        limit_surface(
+            &mesh,
+            &options,
+            &PatchOptions {
+                max_isolation: 4,
+                max_stencil_weights: weights,
+                ..PatchOptions::default()
+            },
+        )
+    };
+    let full = with(usize::MAX).unwrap();
+    assert_eq!(full.isolation(), 4);
+    let lowered = with(2_000_000).unwrap();
+    assert!(
+        (1..4).contains(&lowered.isolation()),
+        "{}",
+        lowered.isolation()
+    );
+    // Lowered by work as by memory: the same limit surface on the regular patches.
+    let regular = lowered.patches().iter().find(|p| p.regular);
+    if let Some(regular) = regular {
+        let at = SurfacePoint {
+            ptex_face: regular.ptex_face,
+            u: regular.u0 + 0.5 * regular.size,
+            v: regular.v0 + 0.5 * regular.size,
+        };
+        let a = full.evaluate(&[at]).unwrap()[0].position;
+        let b = lowered.evaluate(&[at]).unwrap()[0].position;
+        for k in 0..3 {
+            assert!((a[k] - b[k]).abs() < 1e-12, "{a:?} vs {b:?}");
+        }
+    }
+    match with(10_000) {
+        Err(e @ Error::WorkLimit { .. }) => {
+            let text = e.to_string();
+            assert!(text.contains("10000 stencil weights"), "{text}");
+            assert!(text.contains("--max-stencils"), "{text}");
+        }
+        Err(e) => panic!("wrong error: {e}"),
+        Ok(s) => panic!("10 000 weights accepted at isolation {}", s.isolation()),
     }
 }
 

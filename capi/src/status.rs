@@ -6,8 +6,9 @@ use std::ffi::{c_char, c_int, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// The version of the C ABI: bumped whenever a declaration of `surfkit.h` changes
-/// incompatibly. Compare with [`surfkit_abi_version`] at run time.
-pub const SURFKIT_ABI_VERSION: c_int = 1;
+/// incompatibly (2: `SurfkitEatOptions.check_fixes` and `SurfkitFlaw.fix_verified`). Compare
+/// with [`surfkit_abi_version`] at run time.
+pub const SURFKIT_ABI_VERSION: c_int = 2;
 
 /// Success.
 pub const SURFKIT_OK: c_int = 0;
@@ -25,8 +26,9 @@ pub const SURFKIT_SOLVER: c_int = 5;
 pub const SURFKIT_FFI: c_int = 6;
 /// An internal error (a caught panic): please report it with the message.
 pub const SURFKIT_INTERNAL: c_int = 7;
-/// The operation would need more memory than its limit (half of the machine's memory): the
-/// message names what and the limit.
+/// The operation would need more memory than its limit (half of the machine's memory, or
+/// what surfkit_set_max_memory set), or more work than one of its bounds: the message names
+/// what, the limit and how to raise it.
 pub const SURFKIT_RESOURCE_LIMIT: c_int = 8;
 
 thread_local! {
@@ -66,7 +68,7 @@ impl From<surfkit::Error> for Failure {
             E::Topology(_) => SURFKIT_TOPOLOGY,
             E::Solver { .. } => SURFKIT_SOLVER,
             E::Ffi { .. } => SURFKIT_FFI,
-            E::ResourceLimit { .. } => SURFKIT_RESOURCE_LIMIT,
+            E::ResourceLimit { .. } | E::WorkLimit { .. } => SURFKIT_RESOURCE_LIMIT,
         };
         Failure {
             code,

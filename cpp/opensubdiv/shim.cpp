@@ -295,23 +295,49 @@ Far::PatchTableFactory::Options patch_options(int isolation) {
   return popt;
 }
 
+// An estimate (an upper bound on the meshes measured) of the stencil weights of the B-spline
+// end caps Far::PatchTableFactory adds after refiner's last level: for each face of that
+// level with an extraordinary corner, 16 local points on at most the face's one-ring, which
+// is 16 points around a regular quad and 2 more per edge beyond 4 at each corner (an n-gon:
+// 2n + 1 per corner). A triangle grid measured 86 M weights against 87 M estimated at
+// level 1, 44 M against 193 M at level 2 (one extraordinary corner: points shared).
+size_t end_cap_weight_bound(const Far::TopologyRefiner& refiner) {
+  const Far::TopologyLevel& last = refiner.GetLevel(refiner.GetMaxLevel());
+  size_t total = 0;
+  for (int f = 0; f < last.GetNumFaces(); ++f) {
+    Far::ConstIndexArray corners = last.GetFaceVertices(f);
+    bool irregular = false;
+    size_t ring = corners.size() == 4 ? 16 : 0;
+    for (int k = 0; k < corners.size(); ++k) {
+      const size_t n = static_cast<size_t>(last.GetVertexFaces(corners[k]).size());
+      ring += corners.size() == 4 ? 2 * (n > 4 ? n - 4 : 0) : 2 * n + 1;
+      irregular = irregular || !last.IsVertexValenceRegular(corners[k]);
+    }
+    if (irregular || corners.size() != 4) total += 16 * ring;
+  }
+  return total;
+}
+
 // Refines adaptively to the highest level <= max_isolation whose refined vertices (all
-// levels) stay within max_points, never refining a level that would pass it: level by level
-// unless even 4^max_isolation times the control mesh fits. Returns the level, 0 when even
-// level 1 does not fit.
-int refine_within(Far::TopologyRefiner& refiner, int max_isolation, size_t max_points) {
+// levels) stay within max_points and whose end caps' estimated stencil weights within
+// max_weights, never refining a level that would pass the points: level by level unless
+// even 4^max_isolation times the control mesh fits. Returns the level, 0 when even level 1
+// does not fit.
+int refine_within(Far::TopologyRefiner& refiner, int max_isolation, size_t max_points,
+                  size_t max_weights) {
   const Far::TopologyLevel& base = refiner.GetLevel(0);
   const double bound = (static_cast<double>(base.GetNumVertices()) + base.GetNumFaces()) *
                        std::ldexp(1.0, 2 * max_isolation);
   if (bound <= static_cast<double>(max_points)) {
     refiner.RefineAdaptive(patch_options(max_isolation).GetRefineAdaptiveOptions());
-    return max_isolation;
+    if (end_cap_weight_bound(refiner) <= max_weights) return max_isolation;
+    refiner.Unrefine();
   }
   for (int level = 1; level <= max_isolation; ++level) {
     if (level > 1) refiner.Unrefine();
     refiner.RefineAdaptive(patch_options(level).GetRefineAdaptiveOptions());
     const size_t total = static_cast<size_t>(refiner.GetNumVerticesTotal());
-    if (total > max_points) {
+    if (total > max_points || end_cap_weight_bound(refiner) > max_weights) {
       refiner.Unrefine();
       if (level == 1) return 0;
       refiner.RefineAdaptive(patch_options(level - 1).GetRefineAdaptiveOptions());
@@ -344,40 +370,43 @@ extern "C" int surfkit_osd_patches_create(const surfkit_osd_topology* topology,
     if (!result->refiner) return why;
     Far::TopologyRefiner& refiner = *result->refiner;
 
-    const int isolation = refine_within(refiner, max_isolation, limits->max_refined_points);
+    // Far::PatchTableFactory allocates the end caps' local points itself: the level is
+    // chosen so that their estimate fits too.
+    const size_t budget = std::min(limits->max_stencil_weights, static_cast<size_t>(INT_MAX));
+    const int isolation =
+        refine_within(refiner, max_isolation, limits->max_refined_points, budget);
     if (isolation == 0) {
       over_budget = true;
       return "refining once adaptively makes more than " +
-             std::to_string(limits->max_refined_points) + " vertices";
+             std::to_string(limits->max_refined_points) + " vertices or end caps of more than " +
+             std::to_string(budget) + " stencil weights";
     }
     const Far::PatchTableFactory::Options popt = patch_options(isolation);
     result->table.reset(Far::PatchTableFactory::Create(refiner, popt));
     if (!result->table) return "PatchTableFactory::Create failed: " + last_osd_error;
     const Far::PatchTable& table = *result->table;
 
-    // Stencils of every refined vertex (all levels), then of the local points, in terms of
-    // the control vertices; int indices on the Rust side bound the total.
+    // Stencils of every refined vertex (all levels) in terms of the control vertices; the
+    // local points' stencils stay in the table (copied out once by surfkit_osd_patches_copy).
+    // int indices on the Rust side bound the total.
     const int ncv = refiner.GetLevel(0).GetNumVertices();
-    const size_t budget = std::min(limits->max_stencil_weights, static_cast<size_t>(INT_MAX));
     result->stencils = std::make_unique<surfkit_osd::StencilComposer>(ncv, budget);
     surfkit_osd::StencilComposer& st = *result->stencils;
     why = st.add_refined_levels(refiner);
     if (!why.empty()) return why;
     const Far::StencilTableReal<double>* local = table.GetLocalPointStencilTable<double>();
-    if (!st.over_budget() && local && local->GetNumStencils() > 0) {
-      why = st.add_local_points(*local);
-      if (!why.empty()) return why;
-    }
-    if (st.over_budget()) {
+    const size_t local_weights = local ? local->GetControlIndices().size() : 0;
+    if (st.over_budget() || st.indices.size() + local_weights > budget) {
       over_budget = true;
       return "the limit surface at isolation level " + std::to_string(isolation) +
              " needs more than " + std::to_string(budget) + " stencil weights";
     }
+    const size_t local_count = local ? static_cast<size_t>(local->GetNumStencils()) : 0;
 
     result->num_control_vertices = ncv;
     result->num_patch_points = refiner.GetNumVerticesTotal() + table.GetNumLocalPoints();
-    if (static_cast<int>(st.stencil_count()) != result->num_patch_points - ncv)
-      return "stencil count " + std::to_string(st.stencil_count()) +
+    if (static_cast<int>(st.stencil_count() + local_count) != result->num_patch_points - ncv)
+      return "stencil count " + std::to_string(st.stencil_count() + local_count) +
              " does not match the patch points " + std::to_string(result->num_patch_points - ncv);
 
     for (int a = 0, global = 0; a < table.GetNumPatchArrays(); ++a) {
@@ -396,7 +425,7 @@ extern "C" int surfkit_osd_patches_create(const surfkit_osd_topology* topology,
     counts->num_ptex_faces = table.GetNumPtexFaces();
     counts->num_control_vertices = result->num_control_vertices;
     counts->num_patch_points = result->num_patch_points;
-    counts->num_stencil_weights = static_cast<int>(st.indices.size());
+    counts->num_stencil_weights = static_cast<int>(st.indices.size() + local_weights);
     counts->isolation = isolation;
     *out = result.release();
     return "";
@@ -427,11 +456,29 @@ extern "C" int surfkit_osd_patches_copy(const surfkit_osd_patches* r,
     const int nf = r->refiner->GetLevel(0).GetNumFaces();
     for (int f = 0; f < nf; ++f) a->ptex_of_face[f] = ptex.GetFaceId(f);
     a->ptex_of_face[nf] = ptex.GetNumFaces();
+    return "";
+  });
+}
+
+extern "C" int surfkit_osd_patches_stencils(const surfkit_osd_patches* r,
+                                            surfkit_osd_stencils* out, char** error) {
+  return guarded(error, [&]() -> std::string {
+    if (!r || !out) return "null pointer";
     const auto& st = *r->stencils;
-    const size_t ns = st.stencil_count();
-    for (size_t k = 0; k <= ns; ++k) a->stencil_offsets[k] = static_cast<int>(st.offsets[k]);
-    std::copy(st.indices.begin(), st.indices.end(), a->stencil_indices);
-    std::copy(st.weights.begin(), st.weights.end(), a->stencil_weights);
+    out->refined_count = st.stencil_count();
+    out->refined_offsets = st.offsets.data();
+    out->refined_indices = st.indices.data();
+    out->refined_weights = st.weights.data();
+    const Far::StencilTableReal<double>* local = r->table->GetLocalPointStencilTable<double>();
+    const bool any = local && local->GetNumStencils() > 0;
+    out->local_count = any ? static_cast<size_t>(local->GetNumStencils()) : 0;
+    out->local_offsets = any ? local->GetOffsets().data() : nullptr;
+    out->local_sizes = any ? local->GetSizes().data() : nullptr;
+    out->local_entries = any ? local->GetControlIndices().size() : 0;
+    out->local_indices = any ? local->GetControlIndices().data() : nullptr;
+    out->local_weights = any ? local->GetWeights().data() : nullptr;
+    if (any && local->GetWeights().size() != out->local_entries)
+      return "local point stencils of unequal lengths";
     return "";
   });
 }

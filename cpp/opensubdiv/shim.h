@@ -108,17 +108,14 @@ typedef struct surfkit_osd_patch_arrays {
   double* v0;
   double* size;          /* per patch: side length of its square */
   int* ptex_of_face;     /* num_faces + 1 offsets: ptex faces of base face f */
-  int* stencil_offsets;  /* num_patch_points - num_control_vertices + 1 offsets */
-  int* stencil_indices;  /* num_stencil_weights point indices: refined vertices' stencils are
-                            on control vertices, local points' on any earlier point */
-  double* stencil_weights;
 } surfkit_osd_patch_arrays;
 
 /* Refines adaptively up to max_isolation (1..=10), lower where more levels would pass
  * limits->max_refined_points (counts->isolation says which), and builds the patch table with
  * ENDCAP_BSPLINE_BASIS end caps in double precision, plus the stencils of every patch point
  * beyond the control vertices (see stencil_indices). Returns 3 (nothing kept) when even
- * level 1 passes max_refined_points or the stencils would pass max_stencil_weights. */
+ * level 1 passes max_refined_points or the stencils would pass max_stencil_weights (the
+ * end caps' are bounded before Far::PatchTableFactory allocates them). */
 int surfkit_osd_patches_create(const surfkit_osd_topology* topology, int max_isolation,
                                const surfkit_osd_patch_limits* limits,
                                surfkit_osd_patches** out, surfkit_osd_patch_counts* counts,
@@ -126,6 +123,29 @@ int surfkit_osd_patches_create(const surfkit_osd_topology* topology, int max_iso
 
 int surfkit_osd_patches_copy(const surfkit_osd_patches* patches,
                              const surfkit_osd_patch_arrays* arrays, char** error);
+
+/* The stencils of the patch points beyond the control vertices, where the table keeps them
+ * (valid while it lives; not copied: they are most of its memory). The refined points'
+ * first, stencil k at [refined_offsets[k], refined_offsets[k + 1]) of refined_indices and
+ * refined_weights, on control vertices and earlier points; then the end caps' local points',
+ * stencil k at [local_offsets[k], local_offsets[k] + local_sizes[k]) of local_indices and
+ * local_weights, on control vertices and refined points. Pointers of empty arrays may be
+ * null. */
+typedef struct surfkit_osd_stencils {
+  size_t refined_count;
+  const size_t* refined_offsets; /* refined_count + 1 */
+  const int* refined_indices;    /* refined_offsets[refined_count] */
+  const double* refined_weights;
+  size_t local_count;
+  const int* local_offsets;      /* local_count */
+  const int* local_sizes;        /* local_count */
+  size_t local_entries;          /* entries of local_indices and local_weights */
+  const int* local_indices;
+  const double* local_weights;
+} surfkit_osd_stencils;
+
+int surfkit_osd_patches_stencils(const surfkit_osd_patches* patches, surfkit_osd_stencils* out,
+                                 char** error);
 
 /* OpenSubdiv's Far::PatchTable::EvaluateBasis for n points (patch index, u, v in the
  * patch's ptex face): writes 6 * 16 weights per point in the order P, Du, Dv, Duu, Duv,

@@ -1,4 +1,4 @@
-// Stencils of the refined and local (end-cap) points of a patch table, each on the control
+// Stencils of the refined points of a patch table (all levels), each on the control
 // vertices or on earlier points.
 //
 // Far::StencilTableFactory composes every stencil down to the control vertices, and its
@@ -90,35 +90,6 @@ class StencilComposer {
       std::string why = compose_level(log, n_dst, n_src, level == 1, previous_base);
       if (!why.empty() || over_budget_) return why;
       previous_base = base;
-    }
-    return "";
-  }
-
-  // Appends the stencils of the patch table's local points (end caps) as they are: on
-  // control vertices and refined vertices (point index < num_control + count()). Composing
-  // them too would cost (2n)^2 per point around a vertex of valence n, where evaluating
-  // through the refined points costs 2n.
-  std::string add_local_points(const StencilTableReal<double>& local) {
-    const int n = local.GetNumStencils();
-    const size_t known = static_cast<size_t>(num_control_) + stencil_count();
-    for (int s = 0; s < n; ++s) {
-      const auto stencil = local.GetStencil(s);
-      const int size = stencil.GetSize();
-      const int* idx = stencil.GetVertexIndices();
-      const double* w = stencil.GetWeights();
-      if (indices.size() + static_cast<size_t>(size) > max_entries_) {
-        over_budget_ = true;
-        return "";
-      }
-      for (int k = 0; k < size; ++k) {
-        if (idx[k] < 0 || static_cast<size_t>(idx[k]) >= known)
-          return "local point stencil " + std::to_string(s) + " refers to point " +
-                 std::to_string(idx[k]) + " of " + std::to_string(known);
-        indices.push_back(idx[k]);
-        weights.push_back(w[k]);
-      }
-      offsets.push_back(indices.size());
-      composed_.push_back(0);
     }
     return "";
   }

@@ -7,7 +7,10 @@ use std::path::PathBuf;
 
 use crate::limits::MemoryBudget;
 use crate::mesh::io::{read, write, WriteOptions};
-use crate::subdiv::{limit_surface, sample_limit, PatchOptions, SampleOptions, SubdivOptions};
+use crate::subdiv::{
+    limit_surface, sample_limit, PatchOptions, SampleOptions, SubdivOptions,
+    DEFAULT_MAX_STENCIL_WEIGHTS,
+};
 
 use super::subdivide::BoundaryArg;
 
@@ -18,12 +21,18 @@ pub struct LimitArgs {
     /// The sampled surface to write (.ply keeps the curvature as `quality`).
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Grid cells along each side of every (ptex) face.
-    #[arg(long, default_value_t = 4)]
-    pub samples: u32,
+    /// Grid cells along each side of every (ptex) face [default: 4, fewer where the samples
+    /// would pass 2 million]
+    #[arg(long)]
+    pub samples: Option<u32>,
     /// Feature-adaptive isolation levels around extraordinary vertices (1–10).
     #[arg(long, default_value_t = 4)]
     pub max_isolation: u32,
+    /// Stencil weights the patch table may hold, the work of building it (about 0.6 s per
+    /// 10 million): the isolation is lowered to stay under it, and a mesh that passes it
+    /// even at level 1 is refused
+    #[arg(long, default_value_t = DEFAULT_MAX_STENCIL_WEIGHTS)]
+    pub max_stencils: usize,
     /// Boundary rule.
     #[arg(long, value_enum, default_value_t = BoundaryArg::EdgesAndCorners)]
     pub boundary: BoundaryArg,
@@ -34,6 +43,22 @@ pub struct LimitArgs {
     /// Print a JSON report.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Sample cells per face side when `--samples` is not given.
+const DEFAULT_SAMPLES: u32 = 4;
+
+/// Samples the default may produce (about 2.5 s of evaluation and 170 MB of PLY): a
+/// curvature map of a big mesh at 4 cells per side would be tens of millions of samples.
+const MAX_AUTO_SAMPLES: usize = 2_000_000;
+
+/// The most cells per side, up to [`DEFAULT_SAMPLES`] and at least 1, whose (k + 1)² samples
+/// per ptex face keep `ptex_faces` faces under [`MAX_AUTO_SAMPLES`].
+fn auto_samples(ptex_faces: usize) -> u32 {
+    (1..=DEFAULT_SAMPLES)
+        .rev()
+        .find(|&k| ptex_faces.saturating_mul(((k + 1) * (k + 1)) as usize) <= MAX_AUTO_SAMPLES)
+        .unwrap_or(1)
 }
 
 pub fn run(args: &LimitArgs, memory: MemoryBudget) -> crate::Result<()> {
@@ -52,22 +77,39 @@ pub fn run(args: &LimitArgs, memory: MemoryBudget) -> crate::Result<()> {
         &PatchOptions {
             max_isolation: args.max_isolation,
             memory,
+            max_stencil_weights: args.max_stencils,
         },
     )?;
     if surface.isolation() < args.max_isolation {
         eprintln!(
             "surfkit: note: isolation lowered from {} to {} to stay under the memory limit of \
-             {memory} (--max-memory): near extraordinary vertices the surface is the level-{} \
-             approximation",
+             {memory} (--max-memory) and {} stencil weights (--max-stencils): near \
+             extraordinary vertices the surface is the level-{} approximation",
             args.max_isolation,
             surface.isolation(),
+            args.max_stencils,
             surface.isolation()
         );
     }
+    let samples_per_side = match args.samples {
+        Some(k) => k,
+        None => {
+            let k = auto_samples(surface.ptex_face_count());
+            if k < DEFAULT_SAMPLES {
+                eprintln!(
+                    "surfkit: note: {k} sample cells per face side instead of \
+                     {DEFAULT_SAMPLES}, to keep {} faces under {MAX_AUTO_SAMPLES} samples \
+                     (--samples sets it)",
+                    surface.ptex_face_count()
+                );
+            }
+            k
+        }
+    };
     let sampled = sample_limit(
         &surface,
         &SampleOptions {
-            samples: args.samples,
+            samples: samples_per_side,
         },
     )?;
     let samples = &sampled.mesh;
@@ -90,6 +132,7 @@ pub fn run(args: &LimitArgs, memory: MemoryBudget) -> crate::Result<()> {
             "patches": surface.patches().len(), "regular_patches": regular,
             "isolation": surface.isolation(),
             "ptex_faces": surface.ptex_face_count(),
+            "samples_per_side": samples_per_side,
             "samples": samples.vertex_count(),
             "degenerate_samples": sampled.degenerate.len(),
             "mean_curvature": { "min": lo, "max": hi },

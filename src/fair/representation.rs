@@ -174,6 +174,7 @@ impl PatchRepresentation {
             &PatchOptions {
                 max_isolation: options.isolation,
                 memory: options.memory,
+                ..PatchOptions::default()
             },
         )?;
         if surface.isolation() < options.isolation {

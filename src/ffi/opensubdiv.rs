@@ -209,9 +209,84 @@ pub struct PatchData {
     pub v0: Vec<f64>,
     pub size: Vec<f64>,
     pub ptex_of_face: Vec<i32>,
-    pub stencil_offsets: Vec<i32>,
-    pub stencil_indices: Vec<i32>,
-    pub stencil_weights: Vec<f64>,
+}
+
+/// The stencils of the patch points beyond the control vertices, borrowed from the table
+/// (see `surfkit_osd_stencils` in `shim.h`): the refined points' then the end caps' local
+/// points'. Point `ncv + s` has stencil `s`.
+#[derive(Debug, Clone, Copy)]
+pub struct Stencils<'a> {
+    refined_offsets: &'a [usize],
+    refined_indices: &'a [i32],
+    refined_weights: &'a [f64],
+    local_offsets: &'a [i32],
+    local_sizes: &'a [i32],
+    local_indices: &'a [i32],
+    local_weights: &'a [f64],
+}
+
+impl<'a> Stencils<'a> {
+    /// Number of stencils.
+    pub fn len(&self) -> usize {
+        self.refined_offsets.len() - 1 + self.local_offsets.len()
+    }
+
+    /// Point indices and weights of stencil `s`; empty for an `s` out of range or a range
+    /// the table got wrong ([`Stencils::well_formed`] says whether any is).
+    pub fn get(&self, s: usize) -> (&'a [i32], &'a [f64]) {
+        let refined = self.refined_offsets.len() - 1;
+        let range = if s < refined {
+            Some(self.refined_offsets[s]..self.refined_offsets[s + 1])
+        } else {
+            let k = s - refined;
+            match (self.local_offsets.get(k), self.local_sizes.get(k)) {
+                (Some(&o), Some(&n)) if o >= 0 && n >= 0 => Some(o as usize..(o + n) as usize),
+                _ => None,
+            }
+        };
+        let (indices, weights) = if s < refined {
+            (self.refined_indices, self.refined_weights)
+        } else {
+            (self.local_indices, self.local_weights)
+        };
+        match range.and_then(|r| Some((indices.get(r.clone())?, weights.get(r)?))) {
+            Some(pair) => pair,
+            None => (&[], &[]),
+        }
+    }
+
+    /// Every range inside its arrays, and every stencil of point `ncv + s` on points
+    /// before it (`ncv` control vertices).
+    pub fn well_formed(&self, ncv: usize) -> bool {
+        let refined = self.refined_offsets.len() - 1;
+        let ranges_ok = self.refined_offsets.windows(2).all(|w| w[0] <= w[1])
+            && self.refined_offsets[refined] == self.refined_indices.len()
+            && self
+                .local_offsets
+                .iter()
+                .zip(self.local_sizes)
+                .all(|(&o, &n)| {
+                    o >= 0 && n >= 0 && (o as usize + n as usize) <= self.local_indices.len()
+                });
+        ranges_ok
+            && (0..self.len()).all(|s| {
+                let (indices, weights) = self.get(s);
+                indices.len() == weights.len()
+                    && indices.iter().all(|&i| i >= 0 && (i as usize) < ncv + s)
+            })
+    }
+}
+
+/// A slice from a pointer the shim may leave null when `len` is 0.
+///
+/// # Safety
+/// A non-null `ptr` must point to `len` initialised values that outlive `'a`.
+unsafe fn view<'a, T>(ptr: *const T, len: usize) -> &'a [T] {
+    if ptr.is_null() || len == 0 {
+        &[]
+    } else {
+        std::slice::from_raw_parts(ptr, len)
+    }
 }
 
 /// An OpenSubdiv patch table (feature-adaptive, B-spline end caps, doubles), owned.
@@ -282,11 +357,11 @@ impl PatchTable {
         self.counts.isolation as u32
     }
 
-    /// Copies the table's arrays out in one call.
+    /// Copies the table's per-patch arrays out in one call (the stencils stay in the table:
+    /// [`PatchTable::stencils`]).
     pub fn data(&self, num_faces: usize) -> Result<PatchData> {
         let c = &self.counts;
         let np = c.num_patches as usize;
-        let nst = (c.num_patch_points - c.num_control_vertices) as usize;
         let mut d = PatchData {
             num_control_vertices: c.num_control_vertices as usize,
             num_patch_points: c.num_patch_points as usize,
@@ -300,9 +375,6 @@ impl PatchTable {
             v0: vec![0.0; np],
             size: vec![0.0; np],
             ptex_of_face: vec![0; num_faces + 1],
-            stencil_offsets: vec![0; nst + 1],
-            stencil_indices: vec![0; c.num_stencil_weights as usize],
-            stencil_weights: vec![0.0; c.num_stencil_weights as usize],
         };
         let arrays = raw::surfkit_osd_patch_arrays {
             patch_points: d.patch_points.as_mut_ptr(),
@@ -314,9 +386,6 @@ impl PatchTable {
             v0: d.v0.as_mut_ptr(),
             size: d.size.as_mut_ptr(),
             ptex_of_face: d.ptex_of_face.as_mut_ptr(),
-            stencil_offsets: d.stencil_offsets.as_mut_ptr(),
-            stencil_indices: d.stencil_indices.as_mut_ptr(),
-            stencil_weights: d.stencil_weights.as_mut_ptr(),
         };
         let mut msg = ptr::null_mut();
         // SAFETY: every array sized from the counts of this handle; num_faces is the base
@@ -324,6 +393,48 @@ impl PatchTable {
         let status = unsafe { raw::surfkit_osd_patches_copy(self.handle, &arrays, &mut msg) };
         check(status, msg)?;
         Ok(d)
+    }
+
+    /// The stencils of the patch points beyond the control vertices, where the table keeps
+    /// them.
+    pub fn stencils(&self) -> Result<Stencils<'_>> {
+        let mut v = raw::surfkit_osd_stencils {
+            refined_count: 0,
+            refined_offsets: ptr::null(),
+            refined_indices: ptr::null(),
+            refined_weights: ptr::null(),
+            local_count: 0,
+            local_offsets: ptr::null(),
+            local_sizes: ptr::null(),
+            local_entries: 0,
+            local_indices: ptr::null(),
+            local_weights: ptr::null(),
+        };
+        let mut msg = ptr::null_mut();
+        // SAFETY: live handle, `v` writable.
+        let status = unsafe { raw::surfkit_osd_patches_stencils(self.handle, &mut v, &mut msg) };
+        check(status, msg)?;
+        // SAFETY: the shim's vectors live as long as the handle, which `self` borrows; their
+        // lengths are the counts it reported (refined_offsets has refined_count + 1 entries,
+        // never null: the composer starts with one offset).
+        unsafe {
+            let refined_offsets = view(v.refined_offsets, v.refined_count + 1);
+            let Some(&refined_len) = refined_offsets.last() else {
+                return Err(Error::Ffi {
+                    library: "OpenSubdiv",
+                    message: "the shim reported no stencil offsets".into(),
+                });
+            };
+            Ok(Stencils {
+                refined_offsets,
+                refined_indices: view(v.refined_indices, refined_len),
+                refined_weights: view(v.refined_weights, refined_len),
+                local_offsets: view(v.local_offsets, v.local_count),
+                local_sizes: view(v.local_sizes, v.local_count),
+                local_indices: view(v.local_indices, v.local_entries),
+                local_weights: view(v.local_weights, v.local_entries),
+            })
+        }
     }
 
     /// OpenSubdiv's `EvaluateBasis` at `(patch[i], u[i], v[i])`: 96 weights per point

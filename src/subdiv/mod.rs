@@ -25,7 +25,9 @@ pub use options::{
     BoundaryInterpolation, Corner, Crease, CreasingMethod, FaceVaryingInterpolation, SubdivOptions,
     TriangleSubdivision,
 };
-pub use patches::{limit_surface, Patch, PatchOptions, PatchSurface, SurfacePoint};
+pub use patches::{
+    limit_surface, Patch, PatchOptions, PatchSurface, SurfacePoint, DEFAULT_MAX_STENCIL_WEIGHTS,
+};
 pub use sample::{sample_limit, LimitSamples, SampleOptions, MAX_SAMPLES};
 pub use uniform::{refine_uniform, refined_face_count, BYTES_PER_REFINED_FACE, MAX_LEVELS};
 

@@ -40,19 +40,33 @@ pub struct PatchOptions {
     /// which); where even level 1 or the stencils would pass it, the build fails with
     /// [`Error::ResourceLimit`].
     pub memory: MemoryBudget,
+    /// Stencil weights the table may hold: the work of building and evaluating it (about
+    /// 0.6 s per 10 M on this project's 2-core bench machine). Like `memory`, it lowers the
+    /// isolation where the table would pass it (refined vertices count 16 weights each, the
+    /// end caps are estimated before OpenSubdiv allocates them), and fails the build where
+    /// even level 1 does. A mesh whose every vertex is extraordinary (a triangle mesh)
+    /// reaches it first.
+    pub max_stencil_weights: usize,
 }
+
+/// [`PatchOptions::max_stencil_weights`] by default: a 100k-triangle mesh (every vertex
+/// extraordinary, 87 M weights at isolation 1) fits, in seconds.
+pub const DEFAULT_MAX_STENCIL_WEIGHTS: usize = 100_000_000;
 
 impl Default for PatchOptions {
     fn default() -> Self {
         PatchOptions {
             max_isolation: 4,
             memory: MemoryBudget::default(),
+            max_stencil_weights: DEFAULT_MAX_STENCIL_WEIGHTS,
         }
     }
 }
 
-/// Bytes one stencil weight takes while the table is built: an index and a weight in the
-/// shim, copied once more into [`ffi::PatchData`].
+/// Bytes one stencil weight takes while the table is built: an index and a weight where the
+/// table keeps them (the shim's composer, OpenSubdiv's local point table; not copied), and
+/// as much again for OpenSubdiv's transient copy while it builds the end caps (measured: a
+/// 100k-triangle grid at isolation 1, 87 M weights, peaked at 1.85 GB).
 const BYTES_PER_STENCIL_WEIGHT: u64 = 2 * (4 + 8);
 
 /// Bytes per refined vertex of OpenSubdiv's refiner and patch table and of the surface's
@@ -128,8 +142,13 @@ pub fn limit_surface(
     let topology = control.topology();
     // Half of the budget for the refined points, half for the stencils.
     let half = MemoryBudget::bytes(patch_options.memory.get() / 2);
-    let max_points = usize::try_from(half.items(BYTES_PER_REFINED_POINT)).unwrap_or(usize::MAX);
-    let max_weights = usize::try_from(half.items(BYTES_PER_STENCIL_WEIGHT)).unwrap_or(usize::MAX);
+    let work = patch_options.max_stencil_weights;
+    let max_points = usize::try_from(half.items(BYTES_PER_REFINED_POINT))
+        .unwrap_or(usize::MAX)
+        .min(work / 16);
+    let max_weights = usize::try_from(half.items(BYTES_PER_STENCIL_WEIGHT))
+        .unwrap_or(usize::MAX)
+        .min(work);
     // The shim stops refining where the points would pass their limit; where the stencils
     // do, try lower levels (fewer levels do not always mean fewer weights: end caps at a low
     // level carry more than the regular patches of a higher one).
@@ -139,25 +158,40 @@ pub fn limit_surface(
             Some(table) => break table,
             None if isolation > 1 => isolation -= 1,
             None => {
-                return Err(Error::ResourceLimit {
-                    what: format!(
-                        "the limit surface of {} vertices and {} faces",
-                        mesh.vertex_count(),
-                        mesh.face_count()
-                    ),
-                    limit: patch_options.memory.get(),
-                    advice: format!(
-                        "at no isolation level do its refinement and stencils fit in \
-                         {max_points} refined vertices and {max_weights} stencil weights"
-                    ),
-                })
+                let what = format!(
+                    "the limit surface of {} vertices and {} faces",
+                    mesh.vertex_count(),
+                    mesh.face_count()
+                );
+                let advice = format!(
+                    "at no isolation level do its refinement and stencils fit in {max_points} \
+                     refined vertices and {max_weights} stencil weights"
+                );
+                // Name the bound that bit: the work bound where it is below the memory's.
+                return Err(if max_weights == work || max_points == work / 16 {
+                    Error::WorkLimit {
+                        what,
+                        limit: format!(
+                            "{work} stencil weights, the bound on a limit surface's work \
+                             (--max-stencils)"
+                        ),
+                        advice,
+                    }
+                } else {
+                    Error::ResourceLimit {
+                        what,
+                        limit: patch_options.memory.get(),
+                        advice,
+                    }
+                });
             }
         }
     };
     let isolation = table.isolation();
-    let data = table.data(control.face_count())?;
+    let mut data = table.data(control.face_count())?;
     let ncv = data.num_control_vertices;
-    if ncv != mesh.vertex_count() || data.stencil_offsets.len() != data.num_patch_points - ncv + 1 {
+    let stencils = table.stencils()?;
+    if ncv != mesh.vertex_count() || stencils.len() != data.num_patch_points - ncv {
         return Err(Error::Ffi {
             library: "OpenSubdiv",
             message: "patch table counts disagree with the control mesh".into(),
@@ -169,18 +203,7 @@ pub fn limit_surface(
         .iter()
         .all(|&i| i < data.num_patch_points as i32);
     // A stencil refers to control vertices or to points before its own.
-    let stencils_ok = data.stencil_offsets.windows(2).enumerate().all(|(s, w)| {
-        0 <= w[0]
-            && w[0] <= w[1]
-            && (w[1] as usize) <= data.stencil_indices.len()
-            && data.stencil_indices[w[0] as usize..w[1] as usize]
-                .iter()
-                .all(|&i| i >= 0 && (i as usize) < ncv + s)
-    }) && data
-        .stencil_offsets
-        .windows(2)
-        .all(|w| 0 <= w[0] && w[0] <= w[1])
-        && data.stencil_offsets.last().map(|&o| o as usize) == Some(data.stencil_indices.len());
+    let stencils_ok = stencils.well_formed(ncv);
     let ptex_ok = data
         .ptex_face
         .iter()
@@ -225,14 +248,14 @@ pub fn limit_surface(
     let mut surface = PatchSurface {
         control_points: mesh.positions.clone(),
         patches,
-        patch_points: data.patch_points.clone(),
+        patch_points: std::mem::take(&mut data.patch_points),
         point_positions: Vec::new(),
         data,
         patches_of_ptex,
         table,
         isolation,
     };
-    surface.update_points();
+    surface.update_points()?;
     Ok(surface)
 }
 
@@ -262,20 +285,17 @@ fn fill_phantoms<T: Clone>(mask: u8, p: &mut [T; 16], affine: impl Fn(&T, &T) ->
 }
 
 impl PatchSurface {
-    fn update_points(&mut self) {
+    fn update_points(&mut self) -> Result<()> {
         let ncv = self.data.num_control_vertices;
         let d = &self.data;
+        let stencils = self.table.stencils()?;
         let mut pts = self.control_points.clone();
         pts.reserve(d.num_patch_points - ncv);
         for s in 0..d.num_patch_points - ncv {
-            let (a, b) = (
-                d.stencil_offsets[s] as usize,
-                d.stencil_offsets[s + 1] as usize,
-            );
+            let (indices, weights) = stencils.get(s);
             let mut p = [0.0; 3];
-            for e in a..b {
-                let q = pts[d.stencil_indices[e] as usize];
-                let w = d.stencil_weights[e];
+            for (&i, &w) in indices.iter().zip(weights) {
+                let q = pts[i as usize];
                 for k in 0..3 {
                     p[k] += w * q[k];
                 }
@@ -283,6 +303,7 @@ impl PatchSurface {
             pts.push(p);
         }
         self.point_positions = pts;
+        Ok(())
     }
 
     /// The isolation level the table was built with: `max_isolation`, or lower when the
@@ -322,8 +343,7 @@ impl PatchSurface {
             )));
         }
         self.control_points = positions.to_vec();
-        self.update_points();
-        Ok(())
+        self.update_points()
     }
 
     /// The ptex faces of base face `f`: one for a quad, n for an n-gon.
@@ -359,7 +379,7 @@ impl PatchSurface {
     pub fn patch_weights(&self, p: usize) -> Result<[Vec<(u32, f64)>; 16]> {
         let patch = self.patch(p)?;
         let ncv = self.data.num_control_vertices;
-        let d = &self.data;
+        let stencils = self.table.stencils()?;
         let mut rows: [Vec<(u32, f64)>; 16] = std::array::from_fn(|_| Vec::new());
         let phantom = phantom_slots(patch.boundary_mask);
         for (k, row) in rows.iter_mut().enumerate() {
@@ -375,10 +395,9 @@ impl PatchSurface {
                     row.push((id as u32, w));
                     continue;
                 }
-                let s = id - ncv;
-                for e in d.stencil_offsets[s] as usize..d.stencil_offsets[s + 1] as usize {
-                    *pending.entry(d.stencil_indices[e] as usize).or_insert(0.0) +=
-                        w * d.stencil_weights[e];
+                let (indices, weights) = stencils.get(id - ncv);
+                for (&i, &sw) in indices.iter().zip(weights) {
+                    *pending.entry(i as usize).or_insert(0.0) += w * sw;
                 }
             }
             row.reverse();
