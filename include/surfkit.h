@@ -57,9 +57,10 @@
 
 /*
  The version of the C ABI: bumped whenever a declaration of `surfkit.h` changes
- incompatibly. Compare with [`surfkit_abi_version`] at run time.
+ incompatibly (2: `SurfkitEatOptions.check_fixes` and `SurfkitFlaw.fix_verified`). Compare
+ with [`surfkit_abi_version`] at run time.
  */
-#define SURFKIT_ABI_VERSION 1
+#define SURFKIT_ABI_VERSION 2
 
 /*
  Success.
@@ -102,8 +103,9 @@
 #define SURFKIT_INTERNAL 7
 
 /*
- The operation would need more memory than its limit (half of the machine's memory): the
- message names what and the limit.
+ The operation would need more memory than its limit (half of the machine's memory, or
+ what surfkit_set_max_memory set), or more work than one of its bounds: the message names
+ what, the limit and how to raise it.
  */
 #define SURFKIT_RESOURCE_LIMIT 8
 
@@ -188,6 +190,11 @@ typedef struct SurfkitEatOptions {
   const uintptr_t *test_point_facets;
   const int64_t *test_point_expected;
   uintptr_t test_point_count;
+  /*
+   Non-zero: check every suggested fix by applying it to a copy and scanning that
+   again (each flaw's `fix_verified`); a mesh without flaws costs nothing more.
+   */
+  int check_fixes;
 } SurfkitEatOptions;
 
 /*
@@ -252,6 +259,11 @@ typedef struct SurfkitFlaw {
   int64_t component;
   const char *description;
   const char *suggested_fix;
+  /*
+   1: applying the suggested fix removed the flaw (checked on a copy); 0: it did not;
+   −1: not checked (`check_fixes` off).
+   */
+  int fix_verified;
 } SurfkitFlaw;
 
 /*
@@ -452,7 +464,8 @@ extern "C" {
 #endif // __cplusplus
 
 /*
- The defaults of `surfkit eat`: half-edge structure on, exact coincidence, no test point.
+ The defaults of `surfkit eat`: half-edge structure on, exact coincidence, no test point,
+ every suggested fix checked.
 
  # Safety
  `options` must be writable.
@@ -629,6 +642,20 @@ int surfkit_spline_report_json(struct SurfkitSpline *spline, const char **out);
  `spline` must be null or a handle not freed before.
  */
 void surfkit_spline_free(struct SurfkitSpline *spline);
+
+/*
+ Sets the memory every later surfkit call of this process may plan to use, in bytes (at
+ least 1 MiB); 0 goes back to the default, half of the machine's memory. Work that would
+ need more is refused with `SURFKIT_RESOURCE_LIMIT` (or done at a coarser isolation level
+ where the function says so). Thread-safe; calls already running keep their limit.
+ */
+int surfkit_set_max_memory(uint64_t bytes);
+
+/*
+ The memory limit in force, in bytes (what [`surfkit_set_max_memory`] set, or half of the
+ machine's memory).
+ */
+uint64_t surfkit_max_memory(void);
 
 /*
  Makes a mesh from `vertex_count` positions (x, y, z each), `face_count + 1` face offsets

@@ -3,9 +3,11 @@
 //! Sizes that an input or an option implies (refined vertices, stencil weights, spline
 //! cells) are checked against a [`MemoryBudget`] before anything that large is allocated,
 //! so a hostile or merely ambitious input gets a clear error instead of an allocation abort.
-//! The CLI's `--max-memory` sets the budget; the default is half of the machine's memory.
+//! The CLI's `--max-memory` (and the C door's `surfkit_set_max_memory`) sets the process's
+//! budget; the default is half of the machine's memory.
 
 use std::fmt;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// An upper bound, in bytes, for what one operation may allocate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -70,9 +72,23 @@ impl MemoryBudget {
     }
 }
 
+/// The budget [`set_process_budget`] chose, in bytes; 0 when none was chosen.
+static PROCESS_BUDGET: AtomicU64 = AtomicU64::new(0);
+
+/// Sets the budget every operation of this process uses when its caller gives none
+/// ([`MemoryBudget::default`]): the CLI's `--max-memory`, the C door's
+/// `surfkit_set_max_memory`. `None` goes back to half of the machine's memory.
+pub fn set_process_budget(budget: Option<MemoryBudget>) {
+    PROCESS_BUDGET.store(budget.map_or(0, MemoryBudget::get), Ordering::Relaxed);
+}
+
 impl Default for MemoryBudget {
+    /// The process's budget ([`set_process_budget`]), or half of the machine's memory.
     fn default() -> Self {
-        MemoryBudget::from_machine()
+        match PROCESS_BUDGET.load(Ordering::Relaxed) {
+            0 => MemoryBudget::from_machine(),
+            bytes => MemoryBudget::bytes(bytes),
+        }
     }
 }
 

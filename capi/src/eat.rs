@@ -8,6 +8,8 @@ use surfkit::topology::{
     scan, stage_ends, test_points, EatOptions, EatReport, LocatorOptions, StageSource,
 };
 
+use surfkit::repair::check_fixes;
+
 use crate::mesh::SurfkitMesh;
 use crate::pointers::{give, output, reference, slice, take};
 use crate::status::{guard, Failure};
@@ -30,9 +32,13 @@ pub struct SurfkitEatOptions {
     pub test_point_facets: *const usize,
     pub test_point_expected: *const i64,
     pub test_point_count: usize,
+    /// Non-zero: check every suggested fix by applying it to a copy and scanning that
+    /// again (each flaw's `fix_verified`); a mesh without flaws costs nothing more.
+    pub check_fixes: c_int,
 }
 
-/// The defaults of `surfkit eat`: half-edge structure on, exact coincidence, no test point.
+/// The defaults of `surfkit eat`: half-edge structure on, exact coincidence, no test point,
+/// every suggested fix checked.
 ///
 /// # Safety
 /// `options` must be writable.
@@ -47,6 +53,7 @@ pub unsafe extern "C" fn surfkit_eat_options_default(options: *mut SurfkitEatOpt
             test_point_facets: std::ptr::null(),
             test_point_expected: std::ptr::null(),
             test_point_count: 0,
+            check_fixes: 1,
         };
         Ok(())
     })
@@ -104,6 +111,9 @@ pub struct SurfkitFlaw {
     pub component: i64,
     pub description: *const c_char,
     pub suggested_fix: *const c_char,
+    /// 1: applying the suggested fix removed the flaw (checked on a copy); 0: it did not;
+    /// −1: not checked (`check_fixes` off).
+    pub fix_verified: c_int,
 }
 
 /// Texts of a flaw kept as C strings.
@@ -198,8 +208,13 @@ pub unsafe extern "C" fn surfkit_eat_scan(
     guard(|| {
         let out = output(out, "out")?;
         let mesh = &reference(mesh, "mesh")?.mesh;
+        let check = options.as_ref().is_none_or(|o| o.check_fixes != 0);
         let options = options_from(mesh, options)?;
-        give(out, SurfkitEatReport::new(scan(mesh, &options)?));
+        let mut report = scan(mesh, &options)?;
+        if check {
+            check_fixes(mesh, &mut report.flaws, options.locator)?;
+        }
+        give(out, SurfkitEatReport::new(report));
         Ok(())
     })
 }
@@ -318,6 +333,7 @@ pub unsafe extern "C" fn surfkit_eat_report_flaw(
             component: flaw.component.map_or(-1, i64::from),
             description: texts.description.as_ptr(),
             suggested_fix: texts.suggested_fix.as_ptr(),
+            fix_verified: flaw.fix_verified.map_or(-1, c_int::from),
         };
         Ok(())
     })

@@ -10,6 +10,7 @@
 mod eat;
 mod fair;
 mod fit;
+mod limits;
 mod mesh;
 mod pointers;
 mod registry;
@@ -19,6 +20,7 @@ mod subdiv;
 pub use eat::*;
 pub use fair::*;
 pub use fit::*;
+pub use limits::*;
 pub use mesh::*;
 pub use registry::*;
 pub use status::*;

@@ -13,9 +13,10 @@ use std::process::{Command, Output};
 use surfkit::fair::{optimize, tubes, FairOptions};
 use surfkit::mesh::io::{read_with, write, ReadOptions, WriteOptions};
 use surfkit::mesh::PolygonMesh;
+use surfkit::repair::check_fixes;
 use surfkit::shapes::{stamp, StampFlaw, STAMP_STAGES};
 use surfkit::subdiv::{refine_uniform, SubdivOptions};
-use surfkit::topology::{scan, EatOptions, ModelCompanion};
+use surfkit::topology::{scan, EatOptions, LocatorOptions, ModelCompanion};
 
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
@@ -144,7 +145,7 @@ fn read(path: &Path) -> PolygonMesh {
 
 /// The example's EAT lines, as the Rust library gives them for `mesh`.
 fn expected_eat_lines(mesh: &PolygonMesh) -> Vec<String> {
-    let r = scan(
+    let mut r = scan(
         mesh,
         &EatOptions {
             halfedge: true,
@@ -152,6 +153,7 @@ fn expected_eat_lines(mesh: &PolygonMesh) -> Vec<String> {
         },
     )
     .unwrap();
+    check_fixes(mesh, &mut r.flaws, LocatorOptions::default()).unwrap();
     let c = &r.counts;
     let mut lines = vec![format!(
         "eat V {} E {} F {} chi {} loops {} components {} genus {} flaws {}",
@@ -166,8 +168,13 @@ fn expected_eat_lines(mesh: &PolygonMesh) -> Vec<String> {
     )];
     for f in &r.flaws {
         let ids = |v: &[u32]| v.iter().map(|i| format!(" {i}")).collect::<String>();
+        let fix = match f.fix_verified {
+            None => "unchecked",
+            Some(true) => "verified",
+            Some(false) => "not verified",
+        };
         lines.push(format!(
-            "flaw {} v{} f{}",
+            "flaw {} v{} f{} fix {fix}",
             f.kind.name(),
             ids(&f.vertices),
             ids(&f.faces)

@@ -61,7 +61,8 @@ int main(int argc, char** argv) {
       for (auto vh : f.vertices) std::cout << ' ' << vh.idx();
       std::cout << " f";
       for (auto fh : f.faces) std::cout << ' ' << fh.idx();
-      std::cout << "\n";
+      std::cout << " fix " << (!f.fix_verified ? "unchecked" : *f.fix_verified ? "verified" : "not verified")
+                << "\n";
     }
 
     Mesh fine = surfkit::subdivide(mesh, 2);

@@ -27,6 +27,7 @@
 #include <functional>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -155,6 +156,8 @@ struct EatOptions {
   double crack_tolerance = 0.01;
   /// Test points (facet count, expected χ); one entry with facets = 0 means the whole mesh.
   std::vector<std::pair<size_t, int64_t>> test_points;
+  /// Check every suggested fix by applying it to a copy and scanning that (Flaw::fix_verified).
+  bool check_fixes = true;
 };
 
 /// One topological flaw, located with the caller's handles.
@@ -168,6 +171,8 @@ struct Flaw {
   long component = -1;
   std::string description;
   std::string suggested_fix;
+  /// Whether applying suggested_fix to a copy removed the flaw; empty when not checked.
+  std::optional<bool> fix_verified;
 };
 
 /// A test point's outcome.
@@ -241,6 +246,7 @@ EatReport eat(const Mesh& mesh, const EatOptions& options = EatOptions{}) {
   o.halfedge = options.halfedge ? 1 : 0;
   o.weld_tolerance = options.weld_tolerance;
   o.crack_tolerance = options.crack_tolerance;
+  o.check_fixes = options.check_fixes ? 1 : 0;
   std::vector<size_t> facets;
   std::vector<int64_t> expected;
   for (const auto& [f, chi] : options.test_points) {
@@ -279,6 +285,7 @@ EatReport eat(const Mesh& mesh, const EatOptions& options = EatOptions{}) {
     flaw.component = static_cast<long>(f.component);
     flaw.description = f.description;
     flaw.suggested_fix = f.suggested_fix;
+    if (f.fix_verified >= 0) flaw.fix_verified = f.fix_verified == 1;
     r.flaws.push_back(std::move(flaw));
   }
   return r;

@@ -112,6 +112,8 @@ fn positive_finite(text: &str) -> Result<f64, String> {
 /// Runs the command line; errors are printed as one line naming the file and the problem.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Library calls without an explicit budget (uniform refinement, …) use it too.
+    crate::limits::set_process_budget(cli.max_memory);
     let budget = cli.max_memory.unwrap_or_default();
     let result = match &cli.command {
         Command::Info(a) => info::run(a),
@@ -119,7 +121,7 @@ pub fn main() -> ExitCode {
         Command::Demo(a) => demo::run(a),
         Command::Eat(a) => eat::run(a),
         Command::Repair(a) => repair::run(a),
-        Command::Subdivide(a) => subdivide::run(a, budget).map(|()| ExitCode::SUCCESS),
+        Command::Subdivide(a) => subdivide::run(a).map(|()| ExitCode::SUCCESS),
         Command::Limit(a) => limit::run(a, budget).map(|()| ExitCode::SUCCESS),
         Command::Fill(a) => fill::run(a).map(|()| ExitCode::SUCCESS),
         Command::Fit(a) => fit::run(a).map(|()| ExitCode::SUCCESS),

@@ -4,11 +4,9 @@
 
 use std::path::PathBuf;
 
-use crate::limits::MemoryBudget;
 use crate::mesh::io::{read, write, WriteOptions};
 use crate::subdiv::{
-    refine_uniform, refined_face_count, BoundaryInterpolation, FaceVaryingInterpolation,
-    SubdivOptions, BYTES_PER_REFINED_FACE,
+    refine_uniform, BoundaryInterpolation, FaceVaryingInterpolation, SubdivOptions,
 };
 
 /// The boundary rule on the command line (see `subdiv::BoundaryInterpolation`).
@@ -85,23 +83,10 @@ pub struct SubdivideArgs {
     pub json: bool,
 }
 
-pub fn run(args: &SubdivideArgs, memory: MemoryBudget) -> crate::Result<()> {
+/// The memory budget is the process's (`--max-memory`), checked by `refine_uniform`.
+pub fn run(args: &SubdivideArgs) -> crate::Result<()> {
     super::check_paths(&[Some(&args.input)], &[Some(&args.output)])?;
     let mesh = read(&args.input)?;
-    let faces = refined_face_count(&mesh, args.levels);
-    if faces.saturating_mul(BYTES_PER_REFINED_FACE) > memory.get() {
-        let fits = (0..=args.levels).rev().find(|&l| {
-            refined_face_count(&mesh, l).saturating_mul(BYTES_PER_REFINED_FACE) <= memory.get()
-        });
-        return Err(crate::Error::ResourceLimit {
-            what: format!("-l {} ({faces} quads)", args.levels),
-            limit: memory.get(),
-            advice: match fits {
-                Some(l) if l > 0 => format!("-l {l} fits"),
-                _ => "not even one level fits".into(),
-            },
-        });
-    }
     let options = SubdivOptions {
         boundary: args.boundary.into(),
         face_varying: args.uv.into(),

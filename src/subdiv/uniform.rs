@@ -2,6 +2,7 @@
 
 use crate::error::{Error, Result};
 use crate::ffi::opensubdiv as ffi;
+use crate::limits::MemoryBudget;
 use crate::mesh::{CornerUvs, PolygonMesh};
 use crate::subdiv::topology::ControlMesh;
 use crate::subdiv::SubdivOptions;
@@ -24,6 +25,27 @@ pub fn refined_face_count(mesh: &PolygonMesh, levels: u32) -> u64 {
     first.saturating_mul(growth)
 }
 
+/// Refuses `levels` of `mesh` where the last level's quads would pass `memory` at
+/// [`BYTES_PER_REFINED_FACE`] each, naming the most levels that fit.
+fn check_memory(mesh: &PolygonMesh, levels: u32, memory: MemoryBudget) -> Result<()> {
+    let fits =
+        |l: u32| refined_face_count(mesh, l).saturating_mul(BYTES_PER_REFINED_FACE) <= memory.get();
+    if fits(levels) {
+        return Ok(());
+    }
+    Err(Error::ResourceLimit {
+        what: format!(
+            "{levels} levels of refinement ({} quads)",
+            refined_face_count(mesh, levels)
+        ),
+        limit: memory.get(),
+        advice: match (0..levels).rev().find(|&l| fits(l)) {
+            Some(l) if l > 0 => format!("{l} levels fit"),
+            _ => "not even one level fits".into(),
+        },
+    })
+}
+
 /// Refines `mesh` uniformly `levels` times with Catmull–Clark's rules (OpenSubdiv's
 /// `Far::TopologyRefiner::RefineUniform` + `PrimvarRefiner`, in doubles) and returns the last
 /// level: a mesh of quads, with refined UVs when `mesh` has UVs (interpolated by
@@ -33,8 +55,9 @@ pub fn refined_face_count(mesh: &PolygonMesh, levels: u32) -> u64 {
 /// are bilinear). Use [`crate::subdiv::PatchSurface`] for limit positions and derivatives.
 ///
 /// # Errors
-/// [`Error::InvalidInput`] for `levels > 10`, for a refined mesh above `u32` or `i32`
-/// indices, and for the conditions of the control mesh (see `SubdivOptions`: creases must
+/// [`Error::ResourceLimit`] where the refined mesh would pass the process's memory budget
+/// ([`MemoryBudget::default`]); [`Error::InvalidInput`] for `levels > 10`, for a refined
+/// mesh above `u32` or `i32` indices, and for the conditions of the control mesh (see `SubdivOptions`: creases must
 /// be edges, sharpness finite and ≥ 0, faces of ≥ 3 corners); [`Error::Ffi`] when
 /// OpenSubdiv refuses the topology.
 pub fn refine_uniform(
@@ -47,6 +70,7 @@ pub fn refine_uniform(
             "{levels} levels of refinement requested; at most {MAX_LEVELS} are supported"
         )));
     }
+    check_memory(mesh, levels, MemoryBudget::default())?;
     let control = ControlMesh::new(mesh, options, true)?;
     if levels == 0 {
         return Ok(PolygonMesh {

@@ -1,7 +1,8 @@
 // Checks of the C and C++ doors that need a native program (run by capi/tests/cpp_door.rs,
 // also under AddressSanitizer + LeakSanitizer): bad input gets a status and a message
 // naming the element, never an abort; a throwing progress callback is rethrown, a
-// cancelling one stops the run; 1000 create/free cycles of every handle leak nothing.
+// cancelling one stops the run; 1000 create/free cycles of every handle leak nothing; the
+// process's memory limit is set, enforced and restored.
 // Prints "ok: N checks" and exits 0, or names the failed check and exits 1.
 #include <surfkit/openmesh.hh>
 
@@ -279,6 +280,31 @@ static void deleted_elements() {
   EXPECT(rim);
 }
 
+/// The process's memory limit: set, refused below 1 MiB, enforced, restored.
+static void memory_limit() {
+  const uint64_t machine = surfkit_max_memory();
+  EXPECT(machine >= (uint64_t(1) << 20));
+  EXPECT(surfkit_set_max_memory(1000) == SURFKIT_INVALID_INPUT && says("1 MiB"));
+  EXPECT(surfkit_max_memory() == machine);
+  EXPECT(surfkit_set_max_memory(uint64_t(16) << 20) == SURFKIT_OK);
+  EXPECT(surfkit_max_memory() == (uint64_t(16) << 20));
+  SurfkitMesh* m = nullptr;
+  std::vector<double> p;
+  std::vector<uint32_t> o, idx;
+  cube(p, o, idx);
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), &m) == SURFKIT_OK);
+  // 8 levels make 24 · 4^7 = 393 216 quads, about 126 MB at 320 bytes each.
+  SurfkitMesh* fine = nullptr;
+  EXPECT(surfkit_subdivide(m, 8, nullptr, &fine) == SURFKIT_RESOURCE_LIMIT && fine == nullptr);
+  EXPECT(says("393216 quads") && says("memory limit of 16 MiB") && says("6 levels fit"));
+  EXPECT(surfkit_subdivide(m, 5, nullptr, &fine) == SURFKIT_OK);
+  surfkit_mesh_free(fine);
+  EXPECT(surfkit_set_max_memory(0) == SURFKIT_OK && surfkit_max_memory() == machine);
+  EXPECT(surfkit_subdivide(m, 8, nullptr, &fine) == SURFKIT_OK);
+  surfkit_mesh_free(fine);
+  surfkit_mesh_free(m);
+}
+
 int main() {
   EXPECT(surfkit_abi_version() == SURFKIT_ABI_VERSION);
   EXPECT(std::strlen(surfkit_version()) > 0);
@@ -287,6 +313,7 @@ int main() {
   float_traits();
   deleted_elements();
   cycles();
+  memory_limit();
   std::cout << "ok: " << checks << " checks" << std::endl;
   return 0;
 }
