@@ -1,5 +1,5 @@
-//! Every suggested fix checked by applying it: the EAT's flaws are repaired (every kind,
-//! holes of any size), the result is scanned again, and each flaw is marked
+//! Every suggested fix checked by applying it: the EAT's flaws are repaired (the kinds
+//! found, holes as large as found), the result is scanned again, and each flaw is marked
 //! `fix_verified` when a change touched it (a change of another kind may be the fix: a
 //! duplicated facet deleted is what mends the non-manifold edges it made) and no flaw of
 //! the repaired kinds is left on its vertices. A flaw whose fix is a judgment the repair does not make (the
@@ -23,17 +23,28 @@ fn has_automatic_fix(flaw: &Flaw) -> bool {
 /// # Errors
 /// What [`repair_located`] and [`scan`] return on a mesh that breaks its invariants.
 pub fn check_fixes(mesh: &PolygonMesh, flaws: &mut [Flaw], locator: LocatorOptions) -> Result<()> {
-    if flaws.is_empty() {
+    for flaw in flaws.iter_mut() {
+        flaw.fix_verified = None;
+    }
+    // Only the kinds found, and holes only as large as the largest one with a fix: the
+    // repair's passes are whole-mesh work, and an isolated facet's border (a face of 400 000
+    // corners) is not filled just to be left unchecked.
+    let fixable = || flaws.iter().filter(|f| has_automatic_fix(f));
+    let kinds: Vec<FlawKind> = FlawKind::ALL
+        .iter()
+        .copied()
+        .filter(|&k| fixable().any(|f| f.kind == k))
+        .collect();
+    if kinds.is_empty() {
         return Ok(());
     }
-    let largest_hole = flaws
-        .iter()
+    let largest_hole = fixable()
         .filter(|f| f.kind == FlawKind::Hole)
         .map(|f| f.vertices.len())
         .max()
         .unwrap_or(0);
     let options = RepairOptions {
-        kinds: FlawKind::ALL.to_vec(),
+        kinds,
         max_hole_edges: largest_hole,
         locator,
     };
@@ -59,7 +70,6 @@ pub fn check_fixes(mesh: &PolygonMesh, flaws: &mut [Flaw], locator: LocatorOptio
     }
     for flaw in flaws.iter_mut() {
         if !has_automatic_fix(flaw) {
-            flaw.fix_verified = None;
             continue;
         }
         let acted = flaw.vertices.iter().any(|v| touched_vertices.contains(v))
