@@ -85,6 +85,23 @@ impl VertexGrid {
             out.extend_from_slice(&self.all);
             return;
         }
+        // The cells of the segment's box grown by `reach`, when there are fewer of them than
+        // the samples would look up (short edges: most of them), each once.
+        let lo = Self::key([0, 1, 2].map(|k| a[k].min(b[k]) - reach), self.cell);
+        let hi = Self::key([0, 1, 2].map(|k| a[k].max(b[k]) + reach), self.cell);
+        let box_cells: f64 = (0..3).map(|k| (hi[k] - lo[k] + 1) as f64).product();
+        if box_cells <= lookups {
+            for x in lo[0]..=hi[0] {
+                for y in lo[1]..=hi[1] {
+                    for z in lo[2]..=hi[2] {
+                        if let Some(list) = self.cells.get(&[x, y, z]) {
+                            out.extend_from_slice(list);
+                        }
+                    }
+                }
+            }
+            return;
+        }
         let (steps, r) = (steps as usize, radius as i64);
         let mut seen: foldhash::HashSet<[i64; 3]> = Default::default();
         for s in 0..=steps {
