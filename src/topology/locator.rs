@@ -513,7 +513,8 @@ pub fn coincident_pairs(
     ids.sort_unstable();
     let mut pairs = Vec::new();
     if tolerance <= 0.0 {
-        let mut seen: FxHashMap<[u64; 3], u32> = FxHashMap::new();
+        // Sized up front: rehashing a table of millions of vertices doubles what it touches.
+        let mut seen: FxHashMap<[u64; 3], u32> = FxHashMap::with_capacity(ids.len());
         for v in ids {
             // +0.0 folds -0.0 into 0.0: the same place.
             let key = positions[v as usize].map(|c| (c + 0.0).to_bits());
