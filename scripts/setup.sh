@@ -4,9 +4,10 @@
 # Installs, only when missing: a C++ compiler, pkg-config and CMake (the C++ examples'
 # tests), libclang (for bindgen), OpenMesh
 # (libopenmesh-dev), OpenSubdiv (libosd-dev), CGAL headers (libcgal-dev, cross-checks),
-# a Rust toolchain (rustup) when cargo is not on PATH, and the Python peers the
-# cross-checks and benches compare with (pymeshlab, trimesh, numpy, scipy) in .venv, which the
-# command finds through SURFKIT_PYTHON.
+# a Rust toolchain (rustup) when cargo is not on PATH, and in .venv the Python peers the
+# cross-checks and benches compare with (pymeshlab, trimesh, numpy, scipy) and what the Python
+# package needs to build and test (maturin, pytest, ruff); the command finds it through
+# SURFKIT_PYTHON.
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 cd "$(dirname "$0")/.."
@@ -33,10 +34,12 @@ if ! command -v cargo >/dev/null 2>&1; then
   fi
 fi
 
-if [ ! -x .venv/bin/python ] || ! .venv/bin/python -c 'import pymeshlab, trimesh, numpy, scipy' >/dev/null 2>&1; then
-  echo "surfkit setup: installing pymeshlab, trimesh, numpy and scipy into .venv" >&2
+if [ ! -x .venv/bin/python ] || [ ! -x .venv/bin/maturin ] || [ ! -x .venv/bin/ruff ] ||
+   ! .venv/bin/python -c 'import pymeshlab, trimesh, numpy, scipy, pytest' >/dev/null 2>&1; then
+  echo "surfkit setup: installing pymeshlab, trimesh, numpy, scipy, pytest, maturin and ruff into .venv" >&2
   /usr/bin/python3 -m venv .venv 2>/dev/null || python3 -m venv .venv
-  .venv/bin/python -m pip install -q --disable-pip-version-check pymeshlab trimesh numpy scipy
+  .venv/bin/python -m pip install -q --disable-pip-version-check pymeshlab trimesh numpy scipy \
+    pytest maturin "ruff==0.17.6"
 fi
 export SURFKIT_PYTHON="$PWD/.venv/bin/python"
 

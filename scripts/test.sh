@@ -8,3 +8,11 @@ cd "$(dirname "$0")/.."
 # link libsurfkit.so and libsurfkit.a: build the whole workspace first.
 cargo build --release --workspace
 cargo test --release --workspace
+# The Python package (python/: PyO3 + maturin) built into .venv, then its tests (which compare
+# with the CLI built above, pymeshlab and trimesh) and ruff.
+venv="$(dirname "$(dirname "${SURFKIT_PYTHON:-$PWD/.venv/bin/python}")")"
+VIRTUAL_ENV="$venv" CARGO_TARGET_DIR="$PWD/target/python" \
+  "$venv/bin/maturin" develop --release --quiet -m python/Cargo.toml
+"$venv/bin/ruff" check python
+"$venv/bin/ruff" format --check python
+"$venv/bin/python" -m pytest -q python/tests

@@ -1,0 +1,57 @@
+//! surfkit's errors as Python exceptions: `SurfkitError` and one subclass per kind, carrying
+//! the Rust message (which names the file, line or element).
+
+use pyo3::create_exception;
+use pyo3::exceptions::PyException;
+use pyo3::prelude::*;
+
+create_exception!(_surfkit, SurfkitError, PyException, "Any surfkit failure.");
+create_exception!(
+    _surfkit,
+    InvalidInput,
+    SurfkitError,
+    "Input surfkit cannot take: a malformed file, arrays of the wrong shape, NaN, ids out of range."
+);
+create_exception!(
+    _surfkit,
+    TopologyError,
+    SurfkitError,
+    "The mesh's topology does not allow the operation."
+);
+create_exception!(
+    _surfkit,
+    SolverError,
+    SurfkitError,
+    "A numerical solve failed."
+);
+create_exception!(
+    _surfkit,
+    ResourceLimit,
+    SurfkitError,
+    "The operation would pass the memory limit or a bound on its work."
+);
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("SurfkitError", py.get_type::<SurfkitError>())?;
+    m.add("InvalidInput", py.get_type::<InvalidInput>())?;
+    m.add("TopologyError", py.get_type::<TopologyError>())?;
+    m.add("SolverError", py.get_type::<SolverError>())?;
+    m.add("ResourceLimit", py.get_type::<ResourceLimit>())?;
+    Ok(())
+}
+
+/// The exception of a library error.
+pub fn to_py(e: surfkit::Error) -> PyErr {
+    use surfkit::Error as E;
+    let message = e.to_string();
+    match e {
+        E::Parse { .. } | E::UnknownFormat { .. } | E::InvalidInput(_) => {
+            InvalidInput::new_err(message)
+        }
+        E::Topology(_) => TopologyError::new_err(message),
+        E::Solver { .. } => SolverError::new_err(message),
+        E::ResourceLimit { .. } | E::WorkLimit { .. } => ResourceLimit::new_err(message),
+        E::Io { .. } | E::Ffi { .. } => SurfkitError::new_err(message),
+    }
+}

@@ -1,0 +1,20 @@
+//! The native half of the `surfkit` Python package (`surfkit._surfkit`): the Rust library's
+//! mesh and Euler Accompanying Test behind PyO3, numpy arrays in and out. The Pythonic API
+//! (dicts with pymeshlab's keys, faces as lists or arrays) is `surfkit/__init__.py`; this
+//! module only converts, releases the GIL around the work and maps errors to exceptions.
+
+mod eat;
+mod errors;
+mod mesh;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _surfkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<mesh::Mesh>()?;
+    m.add_function(wrap_pyfunction!(mesh::read_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(eat::eat_json, m)?)?;
+    errors::register(m)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

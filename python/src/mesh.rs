@@ -1,0 +1,105 @@
+//! `Mesh`: a polygon mesh (positions f64, faces as offsets + indices) made from numpy arrays
+//! or read from OBJ/PLY/OFF, checked before any algorithm sees it.
+
+use std::path::PathBuf;
+
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+use surfkit::mesh::io::{read, write, WriteOptions};
+use surfkit::mesh::PolygonMesh;
+
+use crate::errors::{to_py, InvalidInput};
+
+/// A polygon mesh owned by surfkit: vertices (n, 3) float64, faces as `face_indices`
+/// (uint32) cut by `face_offsets` (m + 1 entries, from 0); polygons of any arity, nothing
+/// re-indexed or merged.
+#[pyclass(module = "surfkit._surfkit", frozen, subclass)]
+pub struct Mesh {
+    pub(crate) mesh: PolygonMesh,
+}
+
+#[pymethods]
+impl Mesh {
+    /// Makes a mesh from `vertices` (n, 3) float64, `face_indices` and `face_offsets`
+    /// (uint32); raises `InvalidInput` naming the face or vertex at fault.
+    #[new]
+    fn new(
+        vertices: PyReadonlyArray2<'_, f64>,
+        face_indices: PyReadonlyArray1<'_, u32>,
+        face_offsets: PyReadonlyArray1<'_, u32>,
+    ) -> PyResult<Self> {
+        let v = vertices.as_array();
+        if v.ncols() != 3 {
+            return Err(InvalidInput::new_err(format!(
+                "vertices must have shape (n, 3), not {:?}",
+                v.shape()
+            )));
+        }
+        let mesh = PolygonMesh {
+            positions: v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect(),
+            face_indices: face_indices.as_array().iter().copied().collect(),
+            face_offsets: face_offsets.as_array().iter().copied().collect(),
+            ..Default::default()
+        };
+        if mesh.face_offsets.is_empty() {
+            return Err(InvalidInput::new_err(
+                "face_offsets must hold at least one entry (0)",
+            ));
+        }
+        mesh.validate().map_err(to_py)?;
+        Ok(Mesh { mesh })
+    }
+
+    /// The vertex positions, (n, 3) float64 (a copy).
+    #[getter]
+    fn vertices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let flat: Vec<f64> = self.mesh.positions.iter().flatten().copied().collect();
+        let n = self.mesh.positions.len();
+        flat.into_pyarray(py).reshape([n, 3]).expect("n × 3 values")
+    }
+
+    /// The corners of every face, concatenated (uint32, a copy).
+    #[getter]
+    fn face_indices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
+        self.mesh.face_indices.clone().into_pyarray(py)
+    }
+
+    /// Face f is `face_indices[face_offsets[f]:face_offsets[f + 1]]` (uint32, a copy).
+    #[getter]
+    fn face_offsets<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
+        self.mesh.face_offsets.clone().into_pyarray(py)
+    }
+
+    #[getter]
+    fn vertex_count(&self) -> usize {
+        self.mesh.vertex_count()
+    }
+
+    #[getter]
+    fn face_count(&self) -> usize {
+        self.mesh.face_count()
+    }
+
+    /// Writes the mesh (.obj, .ply or .off by the extension), never half-written.
+    fn write(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let mesh = &self.mesh;
+        py.detach(|| write(&path, mesh, &WriteOptions::default()))
+            .map_err(to_py)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "surfkit.Mesh({} vertices, {} faces)",
+            self.mesh.vertex_count(),
+            self.mesh.face_count()
+        )
+    }
+}
+
+/// Reads an OBJ, PLY or OFF file as surfkit's readers do (`InvalidInput` names the line or
+/// element of a malformed file).
+#[pyfunction]
+pub fn read_mesh(py: Python<'_>, path: PathBuf) -> PyResult<Mesh> {
+    let mesh = py.detach(|| read(&path)).map_err(to_py)?;
+    Ok(Mesh { mesh })
+}

@@ -1,0 +1,25 @@
+"""Shared fixtures: the repository's meshes and the surfkit CLI built by scripts/test.sh."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+MESHES = REPO / "fixtures" / "meshes"
+
+
+def mesh_files() -> list[Path]:
+    """Every fixture mesh (OBJ, PLY, OFF) of fixtures/meshes."""
+    return sorted(p for p in MESHES.iterdir() if p.suffix in (".obj", ".ply", ".off"))
+
+
+@pytest.fixture(scope="session")
+def cli() -> Path:
+    """The release binary the Rust suites built (SURFKIT_BIN overrides it)."""
+    path = Path(os.environ.get("SURFKIT_BIN", REPO / "target" / "release" / "surfkit"))
+    if not path.exists():
+        pytest.fail(f"{path} is missing: build it with cargo build --release first")
+    return path

@@ -1,0 +1,185 @@
+"""surfkit.eat against the CLI's JSON, pymeshlab's topological measures and trimesh, on
+every fixture mesh; the differences from pymeshlab are the documented ones."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pymeshlab
+import pytest
+import trimesh
+from conftest import MESHES, mesh_files
+
+import surfkit
+
+PYMESHLAB_KEYS = [
+    "vertices_number",
+    "edges_number",
+    "faces_number",
+    "boundary_edges",
+    "connected_components_number",
+    "is_mesh_two_manifold",
+    "non_two_manifold_edges",
+    "non_two_manifold_vertices",
+    "incident_faces_on_non_two_manifold_edges",
+    "incident_faces_on_non_two_manifold_vertices",
+    "unreferenced_vertices",
+    "number_holes",
+    "genus",
+]
+
+
+def fan_triangles(mesh: surfkit.Mesh) -> np.ndarray:
+    """Every polygon as a fan of triangles from its first corner (MeshLab's meshes are
+    triangles: both tools then see the same faces)."""
+    idx, off = mesh.face_indices, mesh.face_offsets
+    tris = [
+        [idx[off[f]], idx[off[f] + k], idx[off[f] + k + 1]]
+        for f in range(len(off) - 1)
+        for k in range(1, int(off[f + 1] - off[f]) - 1)
+    ]
+    return np.asarray(tris, dtype=np.int64).reshape(-1, 3)
+
+
+@pytest.mark.parametrize("path", mesh_files(), ids=lambda p: p.name)
+def test_the_report_is_the_cli_report(path: Path, cli: Path) -> None:
+    out = subprocess.run([cli, "eat", path, "--json"], check=False, capture_output=True, text=True)
+    assert out.returncode in (0, 3), out.stderr
+    expected = json.loads(out.stdout)["report"]
+    got = surfkit.eat(surfkit.read_mesh(path))
+    assert got["report"] == expected
+    assert got["euler_characteristic"] == expected["counts"]["euler_characteristic"]
+    assert [f["kind"] for f in got["flaws"]] == [f["kind"] for f in expected["flaws"]]
+    for f, e in zip(got["flaws"], expected["flaws"], strict=True):
+        assert f["vertices"].dtype == np.uint32
+        assert f["vertices"].tolist() == e["vertices"]
+        assert f["faces"].tolist() == e["faces"]
+
+
+@pytest.mark.parametrize("path", mesh_files(), ids=lambda p: p.name)
+def test_pymeshlab_agrees_where_its_definitions_do(path: Path) -> None:
+    polygons = surfkit.read_mesh(path)
+    triangles = fan_triangles(polygons)
+    ours = surfkit.eat(surfkit.Mesh(polygons.vertices, triangles), check_fixes=False)
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(polygons.vertices, triangles.astype(np.int32)))
+    theirs = ms.get_topological_measures()
+    for key in PYMESHLAB_KEYS:
+        if key == "number_holes" and not theirs["is_mesh_two_manifold"]:
+            # MeshLab does not count holes on a non-manifold mesh: -1.
+            assert theirs[key] == -1
+        elif key == "non_two_manifold_edges" and ours["report"]["counts"]["duplicated_facets"]:
+            # MeshLab walks a non-manifold edge's faces through its face-face adjacency,
+            # which a duplicated facet breaks: it then counts every (edge, face) pair.
+            pairs = sum(len(f["faces"]) for f in ours["flaws"] if f["kind"] == "non_manifold_edge")
+            assert theirs[key] == pairs, key
+        else:
+            assert ours[key] == theirs[key], key
+
+
+@pytest.mark.parametrize("path", mesh_files(), ids=lambda p: p.name)
+def test_trimesh_agrees_on_euler_number_and_watertightness(path: Path) -> None:
+    polygons = surfkit.read_mesh(path)
+    triangles = fan_triangles(polygons)
+    ours = surfkit.eat(surfkit.Mesh(polygons.vertices, triangles), check_fixes=False)
+    # process=False: trimesh keeps the vertices as given (no merging by position).
+    t = trimesh.Trimesh(polygons.vertices, triangles, process=False)
+    # Both count the referenced vertices only.
+    assert t.euler_number == ours["euler_characteristic"]
+    assert ours["vertices_referenced"] + ours["unreferenced_vertices"] == len(polygons.vertices)
+    watertight = ours["boundary_edges"] == 0 and ours["non_two_manifold_edges"] == 0
+    assert t.is_watertight == watertight
+
+
+def test_test_points_and_target() -> None:
+    torus = surfkit.read_mesh(MESHES / "catmark_torus.obj")
+    assert surfkit.eat(torus, target=0)["verified"]
+    failed = surfkit.eat(torus, target=2)
+    assert not failed["verified"]
+    assert failed["test_points"] == [
+        {
+            "label": "whole mesh",
+            "facets": 32,
+            "expected_euler_characteristic": 2,
+            "euler_characteristic": 0,
+            "verified": False,
+        }
+    ]
+    staged = surfkit.eat(torus, test_points=[(16, 0), (32, 0)])
+    assert len(staged["test_points"]) == 2
+    with pytest.raises(surfkit.InvalidInput, match="not both"):
+        surfkit.eat(torus, target=0, test_points=[(32, 0)])
+
+
+def test_every_form_of_faces_gives_the_same_mesh() -> None:
+    v = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0]], dtype=np.float64)
+    quads = surfkit.Mesh(v, np.array([[0, 1, 2, 3]]))
+    lists = surfkit.Mesh(v, [[0, 1, 2, 3], [1, 4, 2]])
+    flat = surfkit.Mesh(
+        v, (np.array([0, 1, 2, 3, 1, 4, 2], np.uint32), np.array([0, 4, 7], np.uint32))
+    )
+    assert quads.face_offsets.tolist() == [0, 4]
+    assert lists.face_indices.tolist() == flat.face_indices.tolist() == [0, 1, 2, 3, 1, 4, 2]
+    assert lists.face_offsets.tolist() == flat.face_offsets.tolist() == [0, 4, 7]
+    assert np.array_equal(lists.vertices, v)
+    assert surfkit.eat(lists)["euler_characteristic"] == 5 - 6 + 2
+
+
+def test_from_trimesh_and_pymeshlab() -> None:
+    box = trimesh.creation.box()
+    ours = surfkit.eat(surfkit.Mesh.from_trimesh(box))
+    assert ours["genus"] == 0 and ours["euler_characteristic"] == 2
+    pm = pymeshlab.Mesh(np.asarray(box.vertices), np.asarray(box.faces, dtype=np.int32))
+    assert surfkit.eat(surfkit.Mesh.from_pymeshlab(pm))["faces_number"] == 12
+
+
+@pytest.mark.parametrize(
+    ("vertices", "faces", "message"),
+    [
+        (np.zeros((3, 2)), [[0, 1, 2]], r"shape \(n, 3\)"),
+        (np.zeros((3, 3)), [[0, 1, 5]], "face 0 refers to vertex 5"),
+        (
+            np.array([[0, 0, np.nan], [1, 0, 0], [0, 1, 0]]),
+            [[0, 1, 2]],
+            "vertex 0 has a non-finite",
+        ),
+        (np.zeros((3, 3)), [[0, 1, -2]], "entry 2 is negative"),
+        (np.zeros((3, 3)), np.array([[0, 1, 2.5]]), "must be integers"),
+        (np.zeros((3, 3)), np.zeros((2, 2, 3), dtype=int), r"\(m, k\) array"),
+        (np.array([["a", "b", "c"]]), [[0, 0, 0]], "must be numbers"),
+        (np.zeros((3, 3)), [[0, 1, 2**40]], "beyond 32-bit"),
+    ],
+)
+def test_bad_arrays_raise_invalid_input(vertices: object, faces: object, message: str) -> None:
+    with pytest.raises(surfkit.InvalidInput, match=message):
+        surfkit.Mesh(vertices, faces)
+
+
+def test_an_empty_mesh_is_a_mesh() -> None:
+    empty = surfkit.Mesh(np.zeros((0, 3)), [])
+    measures = surfkit.eat(empty)
+    assert measures["faces_number"] == 0 and measures["flaws"] == []
+
+
+def test_options_are_checked() -> None:
+    torus = surfkit.read_mesh(MESHES / "catmark_torus.obj")
+    with pytest.raises(surfkit.InvalidInput, match="weld_tolerance"):
+        surfkit.eat(torus, weld_tolerance=float("nan"))
+
+
+def test_files_round_trip_and_bad_files_name_the_line(tmp_path: Path) -> None:
+    torus = surfkit.read_mesh(MESHES / "catmark_torus.obj")
+    out = tmp_path / "torus.ply"
+    torus.write(out)
+    back = surfkit.read_mesh(out)
+    assert np.array_equal(back.vertices, torus.vertices)
+    assert back.face_indices.tolist() == torus.face_indices.tolist()
+    bad = tmp_path / "bad.obj"
+    bad.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
+    with pytest.raises(surfkit.InvalidInput, match="bad.obj"):
+        surfkit.read_mesh(bad)
+    with pytest.raises(surfkit.SurfkitError, match="missing.obj"):
+        surfkit.read_mesh(tmp_path / "missing.obj")
