@@ -286,6 +286,18 @@ fn binary_garbage_named_obj_is_refused_and_nothing_is_written() {
         "{text}"
     );
     assert!(!out_path.exists());
+    // Garbage in which a record happens to be recognised (an empty group name, found by the
+    // Python corpus scan) is refused as well, at its first binary line.
+    let lucky = dir.path().join("lucky.obj");
+    std::fs::write(&lucky, b"g\n\xd0\xc0!v-\xf9\t\xda/\x12\x1a\n").unwrap();
+    let Err(e) = surfkit::mesh::io::read(&lucky) else {
+        panic!("binary data read as a mesh");
+    };
+    let text = e.to_string();
+    assert!(
+        text.contains("lucky.obj") && text.contains("line 2") && text.contains("byte 0x12"),
+        "{text}"
+    );
     // A file of comments only is an empty mesh, not garbage.
     let comments = dir.path().join("comments.obj");
     std::fs::write(&comments, "# nothing here yet\n\n# still nothing\n").unwrap();

@@ -73,8 +73,21 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
         let Some(keyword) = toks.next() else { continue };
         if keyword.starts_with(b"#") || OBJ_KEYWORDS.contains(&keyword) {
             known_records += 1;
-        } else if first_unknown.is_none() {
-            first_unknown = Some((number, show(keyword)));
+        } else {
+            // An unknown record is skipped, but not binary data: OBJ is text.
+            if let Some(column) = line.iter().position(|&c| is_binary(c)) {
+                return Err(err(
+                    number,
+                    format!(
+                        "binary data (byte 0x{:02x} at column {}): not an OBJ file (OBJ is text)",
+                        line[column],
+                        column + 1
+                    ),
+                ));
+            }
+            if first_unknown.is_none() {
+                first_unknown = Some((number, show(keyword)));
+            }
         }
         match keyword {
             b"v" => read_vertex(&mut b, toks, number).map_err(|m| err(number, why(line, m)))?,
@@ -128,6 +141,12 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
         ));
     }
     finish(b, path, options)
+}
+
+/// A byte no text file holds: a C0 control other than tab, vertical tab, form feed and
+/// carriage return, or DEL (bytes ≥ 0x80 may be any 8-bit encoding of a name or comment).
+fn is_binary(c: u8) -> bool {
+    (c < 0x20 && !matches!(c, b'\t' | 0x0b | 0x0c | b'\r')) || c == 0x7f
 }
 
 /// The keywords of the OBJ format (Wavefront's specification) and OpenSubdiv's `t` tags:
