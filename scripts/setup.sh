@@ -6,7 +6,8 @@
 # (libopenmesh-dev), OpenSubdiv (libosd-dev), CGAL headers (libcgal-dev, cross-checks),
 # a Rust toolchain (rustup) when cargo is not on PATH, and in .venv the Python peers the
 # cross-checks and benches compare with (pymeshlab, trimesh, numpy, scipy) and what the Python
-# package needs to build and test (maturin, pytest, ruff); the command finds it through
+# package needs to build and test (maturin, pytest, ruff; dask, pandas and pyarrow for its
+# corpus scans); the command finds it through
 # SURFKIT_PYTHON.
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
@@ -35,11 +36,11 @@ if ! command -v cargo >/dev/null 2>&1; then
 fi
 
 if [ ! -x .venv/bin/python ] || [ ! -x .venv/bin/maturin ] || [ ! -x .venv/bin/ruff ] ||
-   ! .venv/bin/python -c 'import pymeshlab, trimesh, numpy, scipy, pytest' >/dev/null 2>&1; then
-  echo "surfkit setup: installing pymeshlab, trimesh, numpy, scipy, pytest, maturin and ruff into .venv" >&2
+   ! .venv/bin/python -c 'import pymeshlab, trimesh, numpy, scipy, pytest, distributed, pandas, pyarrow' >/dev/null 2>&1; then
+  echo "surfkit setup: installing pymeshlab, trimesh, numpy, scipy, pytest, maturin, ruff, dask, pandas and pyarrow into .venv" >&2
   /usr/bin/python3 -m venv .venv 2>/dev/null || python3 -m venv .venv
   .venv/bin/python -m pip install -q --disable-pip-version-check pymeshlab trimesh numpy scipy \
-    pytest maturin "ruff==0.17.6"
+    pytest maturin "ruff==0.17.6" "dask[distributed]" pandas pyarrow
 fi
 export SURFKIT_PYTHON="$PWD/.venv/bin/python"
 

@@ -16,5 +16,11 @@ fn _surfkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(eat::eat_json, m)?)?;
     errors::register(m)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // The names flaws carry in "kind", in the CLI's order.
+    let kinds: Vec<&str> = surfkit::topology::FlawKind::ALL
+        .iter()
+        .map(|k| k.name())
+        .collect();
+    m.add("FLAW_KINDS", kinds)?;
     Ok(())
 }
