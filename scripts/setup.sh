@@ -40,7 +40,7 @@ if [ ! -x .venv/bin/python ] || [ ! -x .venv/bin/maturin ] || [ ! -x .venv/bin/r
   echo "surfkit setup: installing pymeshlab, trimesh, numpy, scipy, pytest, maturin, ruff, dask, pandas and pyarrow into .venv" >&2
   /usr/bin/python3 -m venv .venv 2>/dev/null || python3 -m venv .venv
   .venv/bin/python -m pip install -q --disable-pip-version-check pymeshlab trimesh numpy scipy \
-    pytest maturin "ruff==0.17.6" "dask[distributed]" pandas pyarrow
+    pytest "maturin==1.16.0" "ruff==0.17.6" "dask[distributed]" pandas pyarrow
 fi
 export SURFKIT_PYTHON="$PWD/.venv/bin/python"
 
