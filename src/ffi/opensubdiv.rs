@@ -249,10 +249,9 @@ impl<'a> Stencils<'a> {
         } else {
             (self.local_indices, self.local_weights)
         };
-        match range.and_then(|r| Some((indices.get(r.clone())?, weights.get(r)?))) {
-            Some(pair) => pair,
-            None => (&[], &[]),
-        }
+        range
+            .and_then(|r| Some((indices.get(r.clone())?, weights.get(r)?)))
+            .unwrap_or_default()
     }
 
     /// Every range inside its arrays, and every stencil of point `ncv + s` on points
