@@ -335,11 +335,7 @@ fn a_moebius_strip_has_one_boundary_loop_and_non_orientable_genus_one() {
             report.counts.boundary_loops_walk, None,
             "inconsistent orientation"
         );
-        let loops: Vec<_> = report
-            .flaws
-            .iter()
-            .filter(|f| f.kind.is_boundary_loop())
-            .collect();
+        let loops = boundary_loops(&report);
         assert_eq!(loops.len(), 1, "n = {n}: {:?}", report.flaw_counts());
         assert_eq!(loops[0].vertices.len(), 2 * n);
         assert_eq!(report.components[0].orientable, Some(false));
@@ -440,11 +436,7 @@ fn a_fin_on_an_edge_has_one_boundary_loop_closed_across_that_edge() {
         faces.extend_from_slice(extra);
         let mesh = PolygonMesh::from_polygons(positions[..vertices].to_vec(), &faces);
         let report = scan(&mesh, &EatOptions::default()).unwrap();
-        let loops: Vec<_> = report
-            .flaws
-            .iter()
-            .filter(|f| f.kind.is_boundary_loop())
-            .collect();
+        let loops = boundary_loops(&report);
         assert_eq!(loops.len(), 1, "{:?}", report.flaw_counts());
         let mut border = loops[0].vertices.clone();
         border.sort_unstable();
@@ -463,4 +455,13 @@ fn a_fin_on_an_edge_has_one_boundary_loop_closed_across_that_edge() {
     );
     let (_, border, _) = one_loop(&[vec![0, 1, 4], vec![4, 1, 5]], 6);
     assert_eq!(border, vec![0, 1, 4, 5]);
+}
+
+/// The report's flaws that are boundary loops (holes, missing facets, cracks).
+fn boundary_loops(report: &surfkit::topology::EatReport) -> Vec<&surfkit::topology::Flaw> {
+    report
+        .flaws
+        .iter()
+        .filter(|f| f.kind.is_boundary_loop())
+        .collect()
 }

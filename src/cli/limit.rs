@@ -28,7 +28,7 @@ pub struct LimitArgs {
     /// Feature-adaptive isolation levels around extraordinary vertices (1–10).
     #[arg(long, default_value_t = 4)]
     pub max_isolation: u32,
-    /// Stencil weights the patch table may hold, the work of building it (about 0.6 s per
+    /// Stencil weights the patch table may hold, the work of building it (about 0.7 s per
     /// 10 million): the isolation is lowered to stay under it, and a mesh that passes it
     /// even at level 1 is refused
     #[arg(long, default_value_t = DEFAULT_MAX_STENCIL_WEIGHTS)]

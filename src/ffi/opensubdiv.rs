@@ -292,6 +292,9 @@ unsafe fn view<'a, T>(ptr: *const T, len: usize) -> &'a [T] {
 pub struct PatchTable {
     handle: *mut raw::surfkit_osd_patches,
     counts: raw::surfkit_osd_patch_counts,
+    /// Where the table keeps its stencils, asked once (the pointers live as long as the
+    /// handle): [`PatchTable::stencils`] is read per patch on the fairing's hot path.
+    stencils: raw::surfkit_osd_stencils,
 }
 
 // SAFETY: the table is immutable after creation and the shim's evaluation only reads it.
@@ -348,7 +351,36 @@ impl PatchTable {
             return Ok(None);
         }
         check(status, msg)?;
-        Ok(Some(PatchTable { handle, counts }))
+        let mut table = PatchTable {
+            handle,
+            counts,
+            stencils: raw::surfkit_osd_stencils {
+                refined_count: 0,
+                refined_offsets: ptr::null(),
+                refined_indices: ptr::null(),
+                refined_weights: ptr::null(),
+                local_count: 0,
+                local_offsets: ptr::null(),
+                local_sizes: ptr::null(),
+                local_entries: 0,
+                local_indices: ptr::null(),
+                local_weights: ptr::null(),
+            },
+        };
+        let mut msg = ptr::null_mut();
+        // SAFETY: live handle, the view struct writable; `table` frees the handle on error.
+        let status = unsafe {
+            raw::surfkit_osd_patches_stencils(table.handle, &mut table.stencils, &mut msg)
+        };
+        check(status, msg)?;
+        // The composer always holds offset 0: stencils() can index it.
+        if table.stencils.refined_offsets.is_null() {
+            return Err(Error::Ffi {
+                library: "OpenSubdiv",
+                message: "the shim reported no stencil offsets".into(),
+            });
+        }
+        Ok(Some(table))
     }
 
     /// The isolation level the table was built with.
@@ -396,35 +428,15 @@ impl PatchTable {
 
     /// The stencils of the patch points beyond the control vertices, where the table keeps
     /// them.
-    pub fn stencils(&self) -> Result<Stencils<'_>> {
-        let mut v = raw::surfkit_osd_stencils {
-            refined_count: 0,
-            refined_offsets: ptr::null(),
-            refined_indices: ptr::null(),
-            refined_weights: ptr::null(),
-            local_count: 0,
-            local_offsets: ptr::null(),
-            local_sizes: ptr::null(),
-            local_entries: 0,
-            local_indices: ptr::null(),
-            local_weights: ptr::null(),
-        };
-        let mut msg = ptr::null_mut();
-        // SAFETY: live handle, `v` writable.
-        let status = unsafe { raw::surfkit_osd_patches_stencils(self.handle, &mut v, &mut msg) };
-        check(status, msg)?;
-        // SAFETY: the shim's vectors live as long as the handle, which `self` borrows; their
-        // lengths are the counts it reported (refined_offsets has refined_count + 1 entries,
-        // never null: the composer starts with one offset).
+    pub fn stencils(&self) -> Stencils<'_> {
+        let v = &self.stencils;
+        // SAFETY: the shim's vectors live as long as the handle, which `self` borrows, and are
+        // never resized after creation; their lengths are the counts it reported
+        // (refined_offsets, checked non-null in `new`, has refined_count + 1 entries).
         unsafe {
             let refined_offsets = view(v.refined_offsets, v.refined_count + 1);
-            let Some(&refined_len) = refined_offsets.last() else {
-                return Err(Error::Ffi {
-                    library: "OpenSubdiv",
-                    message: "the shim reported no stencil offsets".into(),
-                });
-            };
-            Ok(Stencils {
+            let refined_len = refined_offsets[v.refined_count];
+            Stencils {
                 refined_offsets,
                 refined_indices: view(v.refined_indices, refined_len),
                 refined_weights: view(v.refined_weights, refined_len),
@@ -432,7 +444,7 @@ impl PatchTable {
                 local_sizes: view(v.local_sizes, v.local_count),
                 local_indices: view(v.local_indices, v.local_entries),
                 local_weights: view(v.local_weights, v.local_entries),
-            })
+            }
         }
     }
 

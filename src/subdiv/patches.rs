@@ -41,7 +41,8 @@ pub struct PatchOptions {
     /// [`Error::ResourceLimit`].
     pub memory: MemoryBudget,
     /// Stencil weights the table may hold: the work of building and evaluating it (about
-    /// 0.6 s per 10 M on this project's 2-core bench machine). Like `memory`, it lowers the
+    /// 0.7 s per 10 M as a whole `limit` command: 87 M weights took 6.4 s on this
+    /// project's 2-core machine, 2026-11-25). Like `memory`, it lowers the
     /// isolation where the table would pass it (refined vertices count 16 weights each, the
     /// end caps are estimated before OpenSubdiv allocates them), and fails the build where
     /// even level 1 does. A mesh whose every vertex is extraordinary (a triangle mesh)
@@ -190,7 +191,7 @@ pub fn limit_surface(
     let isolation = table.isolation();
     let mut data = table.data(control.face_count())?;
     let ncv = data.num_control_vertices;
-    let stencils = table.stencils()?;
+    let stencils = table.stencils();
     if ncv != mesh.vertex_count() || stencils.len() != data.num_patch_points - ncv {
         return Err(Error::Ffi {
             library: "OpenSubdiv",
@@ -288,7 +289,7 @@ impl PatchSurface {
     fn update_points(&mut self) -> Result<()> {
         let ncv = self.data.num_control_vertices;
         let d = &self.data;
-        let stencils = self.table.stencils()?;
+        let stencils = self.table.stencils();
         let mut pts = self.control_points.clone();
         pts.reserve(d.num_patch_points - ncv);
         for s in 0..d.num_patch_points - ncv {
@@ -379,7 +380,7 @@ impl PatchSurface {
     pub fn patch_weights(&self, p: usize) -> Result<[Vec<(u32, f64)>; 16]> {
         let patch = self.patch(p)?;
         let ncv = self.data.num_control_vertices;
-        let stencils = self.table.stencils()?;
+        let stencils = self.table.stencils();
         let mut rows: [Vec<(u32, f64)>; 16] = std::array::from_fn(|_| Vec::new());
         let phantom = phantom_slots(patch.boundary_mask);
         for (k, row) in rows.iter_mut().enumerate() {
