@@ -110,9 +110,23 @@ impl FitOutcome {
     ///
     /// Errors: outside the rectangle.
     pub fn eval(&self, u: f64, v: f64) -> Result<[f64; 3]> {
+        self.derivative(u, v, 0, 0)
+    }
+
+    /// ∂^(a+b)σ / ∂u^a ∂v^b at (u, v), from the cell holding the point (σ is C¹ in the
+    /// spline spaces; higher derivatives are the cell's polynomial's).
+    ///
+    /// Errors: outside the rectangle, or an order above the space's degree.
+    pub fn derivative(&self, u: f64, v: f64, a: usize, b: usize) -> Result<[f64; 3]> {
+        let degree = self.space.degree();
+        if a.max(b) > degree {
+            return Err(Error::InvalidInput(format!(
+                "derivative order ({a}, {b}) is above the spline's degree {degree}"
+            )));
+        }
         match &self.fill {
-            Some(f) => f.eval(self.space.as_ref(), u, v, 0, 0),
-            None => self.sigma1.eval(self.space.as_ref(), u, v, 0, 0),
+            Some(f) => f.eval(self.space.as_ref(), u, v, a, b),
+            None => self.sigma1.eval(self.space.as_ref(), u, v, a, b),
         }
     }
 

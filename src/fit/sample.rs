@@ -26,8 +26,10 @@ pub fn sample_mesh(
     let mut q = Vec::with_capacity(n * n);
     for i in 0..n {
         for j in 0..n {
-            let s = u[0] + (u[1] - u[0]) * i as f64 / res as f64;
-            let t = v[0] + (v[1] - v[0]) * j as f64 / res as f64;
+            // Clamped: u₀ + (u₁ − u₀)·res/res can round one ulp past u₁, outside the
+            // spline's rectangle.
+            let s = (u[0] + (u[1] - u[0]) * i as f64 / res as f64).min(u[1]);
+            let t = (v[0] + (v[1] - v[0]) * j as f64 / res as f64).min(v[1]);
             let p = surface(s, t)?;
             if !p.iter().all(|x| x.is_finite()) {
                 return Err(Error::InvalidInput(format!(
@@ -122,5 +124,22 @@ mod tests {
         assert_eq!(m.face_count(), 16);
         assert_eq!(m.quality.as_ref().unwrap().len(), 25);
         assert!(sample_mesh([0.0, 1.0], [0.0, 1.0], 0, &|u, v| Ok([u, v, 0.0]), None).is_err());
+    }
+
+    #[test]
+    fn the_last_samples_stay_inside_the_rectangle() {
+        // a + (b − a)·7/7 rounds one ulp past b for this rectangle (found by the Python
+        // suite's random data); a sample outside it is an error for a spline.
+        let (a, b) = (0.0028978161459048556, 0.9021489705265909);
+        assert!(a + (b - a) * 7.0 / 7.0 > b);
+        let inside = |u: f64, v: f64| {
+            if (a..=b).contains(&u) && (a..=b).contains(&v) {
+                Ok([u, v, 0.0])
+            } else {
+                Err(Error::InvalidInput(format!("({u}, {v}) outside")))
+            }
+        };
+        let m = sample_mesh([a, b], [a, b], 7, &inside, None).unwrap();
+        assert_eq!(m.positions[m.vertex_count() - 1], [b, b, 0.0]);
     }
 }

@@ -4,7 +4,7 @@ use super::grid::Partition;
 
 /// A univariate piecewise-polynomial space on a partition, with a local basis: the
 /// functions non-zero on interval i are a contiguous index range of fixed length.
-pub trait Basis1d {
+pub trait Basis1d: Send + Sync {
     /// The partition the space lives on.
     fn partition(&self) -> &Partition;
     /// Number of basis functions.

@@ -48,7 +48,9 @@ impl LocalBasis {
 
 /// A finite-dimensional space of piecewise polynomials on a grid of cells, with a local
 /// basis. Methods written against it work for every element (B-splines, BFS C¹, BFS C²).
-pub trait Space {
+/// Spaces are plain data, shared across threads (a solved spline evaluated from Python
+/// with the GIL released).
+pub trait Space: Send + Sync {
     /// The partition of the rectangle.
     fn grid(&self) -> &Grid;
     /// Number of basis functions (of one scalar component).

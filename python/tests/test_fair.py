@@ -1,0 +1,78 @@
+"""surfkit.fair against `surfkit fair --json` on the same junction, and its callback."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import surfkit
+
+
+@pytest.fixture(scope="module")
+def tubes(cli: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A three-tube junction of 359 vertices (`surfkit gen tubes`)."""
+    path = tmp_path_factory.mktemp("fair") / "tubes.obj"
+    subprocess.run([cli, "gen", "tubes", "--output", path], check=True, capture_output=True)
+    return path
+
+
+def test_fair_is_the_cli_fair(tubes: Path, cli: Path, tmp_path: Path):
+    out = tmp_path / "faired.ply"
+    run = subprocess.run(
+        [cli, "fair", tubes, "-o", out, "--json"], check=True, capture_output=True, text=True
+    )
+    theirs = json.loads(run.stdout)["report"]
+    iterations: list[dict] = []
+    mesh, report = surfkit.fair(surfkit.read_mesh(tubes), callback=iterations.append)
+    assert report["newton"]["converged"] and theirs["newton"]["converged"]
+    for term in ("f", "s", "q"):
+        assert report["final_terms"][term] == pytest.approx(theirs["final_terms"][term], rel=1e-9)
+    assert report["newton"]["hessian_evaluations"] == theirs["newton"]["hessian_evaluations"]
+    written = surfkit.read_mesh(out)
+    extent = np.ptp(written.vertices, axis=0).max()
+    np.testing.assert_allclose(mesh.vertices, written.vertices, rtol=0, atol=1e-9 * extent)
+    np.testing.assert_array_equal(mesh.face_indices, written.face_indices)
+    # The callback saw every iteration of the log, with the report's values.
+    assert len(iterations) == len(report["log"]) > 0
+    assert [it["iteration"] for it in iterations] == list(range(1, len(iterations) + 1))
+    for seen, logged in zip(iterations, report["log"], strict=True):
+        assert seen["f"] == logged["terms"]["f"]
+        assert seen["gradient_norm"] == logged["gradient_norm"]
+        assert seen["step"] == logged["step"]
+
+
+def test_the_callback_stops_the_run(tubes: Path):
+    seen: list[float] = []
+
+    def stop_after_two(info: dict) -> bool:
+        seen.append(info["f"])
+        return len(seen) == 2
+
+    mesh, report = surfkit.fair(surfkit.read_mesh(tubes), callback=stop_after_two)
+    assert len(seen) == 2 and len(report["log"]) == 2
+    assert report["newton"]["cancelled"] and not report["newton"]["converged"]
+    assert report["final_terms"]["f"] == pytest.approx(seen[-1], rel=1e-12)
+    assert report["final_terms"]["f"] < report["newton"]["initial"]["f"]
+
+
+def test_an_exception_in_the_callback_is_raised(tubes: Path):
+    def fail(info: dict) -> None:
+        raise KeyError("from the callback")
+
+    with pytest.raises(KeyError, match="from the callback"):
+        surfkit.fair(surfkit.read_mesh(tubes), callback=fail)
+
+
+def test_bad_fair_options_are_refused(tubes: Path):
+    mesh = surfkit.read_mesh(tubes)
+    with pytest.raises(surfkit.InvalidInput, match="fixed vertex 100000 out of range"):
+        surfkit.fair(mesh, fixed=[100000])
+    with pytest.raises(surfkit.InvalidInput, match="relative_gradient"):
+        surfkit.fair(mesh, relative_gradient=2.0)
+    closed = surfkit.read_mesh(Path(__file__).parents[2] / "fixtures/meshes/catmark_torus.obj")
+    with pytest.raises(surfkit.SurfkitError):
+        surfkit.fair(closed)
