@@ -4,8 +4,11 @@ are rows with their error; the command line resumes where its report stops."""
 
 from __future__ import annotations
 
+import os
+import signal
 import subprocess
 import sys
+import threading
 from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import get_context
 from pathlib import Path
@@ -18,6 +21,7 @@ from distributed import Client, LocalCluster
 
 import surfkit
 from surfkit import batch
+from surfkit._sandbox import Sandbox
 
 VARIANTS = 42  # per fixture: 12 fixtures make 504 files
 
@@ -89,7 +93,8 @@ def test_a_two_worker_dask_cluster_gives_the_serial_rows(
         LocalCluster(n_workers=2, threads_per_worker=1, processes=True) as cluster,
         Client(cluster) as client,
     ):
-        rows = batch.scan(corpus, client)
+        # Each file in a worker's child process (the timeout's sandbox): the same rows.
+        rows = batch.scan(corpus, client, timeout=120)
     _same(rows, serial)
     assert list(rows.columns) == batch.COLUMNS
     errors = rows["error"].notna()
@@ -133,3 +138,45 @@ def test_the_command_line_resumes(corpus: list[str], serial: pd.DataFrame, tmp_p
             pd.isna(row["euler_characteristic"]) and pd.isna(want["euler_characteristic"])
         )
         assert (row["error"] is None or pd.isna(row["error"])) == pd.isna(want["error"])
+
+
+@pytest.fixture(scope="module")
+def slow_file(tmp_path_factory: pytest.TempPathFactory) -> str:
+    """A 2M-triangle grid: its scan takes about a second here, far above 0.05 s."""
+    n = 1000
+    i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    v = (i * (n + 1) + j).ravel()
+    quads = np.stack([v, v + 1, v + n + 2, v + n + 1], axis=1)
+    triangles = np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
+    g = np.arange(n + 1, dtype=float)
+    vertices = np.stack([np.repeat(g, n + 1), np.tile(g, n + 1), np.zeros((n + 1) ** 2)], axis=1)
+    path = tmp_path_factory.mktemp("slow") / "grid.ply"
+    surfkit.Mesh(vertices, triangles).write(path)
+    return str(path)
+
+
+def test_a_file_past_the_timeout_is_a_row_and_the_next_file_is_scanned(
+    corpus: list[str], serial: pd.DataFrame, slow_file: str
+) -> None:
+    rows = [batch.scan_one(p, timeout=t) for p, t in [(slow_file, 0.05), (corpus[0], 60)]]
+    assert rows[0]["error"] == "timed out after 0.05 s (the scan was stopped)"
+    assert rows[0]["euler_characteristic"] is None
+    expected = serial[serial["path"] == corpus[0]].iloc[0]
+    assert rows[1]["error"] is None
+    assert rows[1]["euler_characteristic"] == expected["euler_characteristic"]
+
+
+def test_a_scanning_process_that_dies_is_a_row(corpus: list[str], slow_file: str) -> None:
+    sandbox = Sandbox()
+    sandbox.scan(corpus[0], {}, 60)  # started
+    pid = sandbox.pid
+    assert pid is not None
+    killer = threading.Timer(0.3, os.kill, (pid, signal.SIGKILL))
+    killer.start()
+    row = sandbox.scan(slow_file, {}, 60)
+    killer.join()
+    assert row["error"] == "the scanning process died (killed by signal 9 (SIGKILL))"
+    assert row["path"] == slow_file
+    after = sandbox.scan(corpus[0], {}, 60)  # a fresh child takes over
+    assert after["error"] is None and sandbox.pid != pid
+    sandbox.close()

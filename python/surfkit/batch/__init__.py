@@ -10,15 +10,20 @@ anything else with ``submit(fn, *args)`` returning futures with ``result()`` (Ra
 A ``ProcessPoolExecutor`` needs the "spawn" (or "forkserver") start method: surfkit and
 Dask run threads, which a forked child inherits in whatever state they were.
 
+``timeout=`` seconds bounds each file: its scan then runs in a child process of the worker
+(``surfkit._sandbox``), killed when it passes the limit and replaced when it crashes, so a
+file that hangs or crashes a reader is a row with its error and the worker lives on.
+
 ``python -m surfkit.batch DIR --out report.parquet`` does the same from a shell, with a
-progress line on standard error; files already in the output are skipped (resumable).
+progress line on standard error, 300 s per file at most (``--timeout``); files already in
+the output are skipped (resumable).
 """
 
 from __future__ import annotations
 
-import argparse
 import os
 import sys
+import threading
 import time
 from collections.abc import Iterable, Iterator
 from concurrent.futures import Future
@@ -28,6 +33,7 @@ from typing import Any
 import pandas as pd
 
 import surfkit
+from surfkit._sandbox import Sandbox
 from surfkit._surfkit import FLAW_KINDS
 
 MESH_SUFFIXES = (".obj", ".ply", ".off")
@@ -55,8 +61,27 @@ SCALAR_KEYS = [
 COLUMNS = ["path", *SCALAR_KEYS, *(f"flaws_{k}" for k in FLAW_KINDS), "seconds", "error"]
 
 
-def scan_one(path: str | os.PathLike[str], options: dict[str, Any] | None = None) -> dict:
-    """One file's row; a file surfkit cannot read or scan is a row with its ``error``."""
+_SANDBOXES = threading.local()
+
+
+def scan_one(
+    path: str | os.PathLike[str],
+    options: dict[str, Any] | None = None,
+    timeout: float | None = None,
+) -> dict:
+    """One file's row; a file surfkit cannot read or scan is a row with its ``error``.
+
+    With ``timeout`` (seconds) the scan runs in a child process of this one (one per
+    thread, reused from file to file) that is killed when it passes the limit or replaced
+    when it dies: a file that hangs or crashes a reader is a row with its error.
+    """
+    if timeout is not None:
+        if not timeout > 0:
+            raise surfkit.InvalidInput(f"timeout {timeout} must be a number of seconds > 0")
+        sandbox = getattr(_SANDBOXES, "sandbox", None)
+        if sandbox is None:
+            sandbox = _SANDBOXES.sandbox = Sandbox()
+        return sandbox.scan(str(path), options or {}, timeout)
     start = time.perf_counter()
     row: dict[str, Any] = dict.fromkeys(COLUMNS)
     row["path"] = str(path)
@@ -80,9 +105,11 @@ def _failed_row(path: str, error: BaseException) -> dict:
     return row
 
 
-def _rows(paths: list[str], client: Any, options: dict[str, Any]) -> Iterator[dict]:
+def _rows(
+    paths: list[str], client: Any, options: dict[str, Any], timeout: float | None
+) -> Iterator[dict]:
     """Rows in completion order through ``client.submit``."""
-    futures = {client.submit(scan_one, p, options): p for p in paths}
+    futures = {client.submit(scan_one, p, options, timeout): p for p in paths}
     try:
         from distributed import as_completed as dask_completed
 
@@ -116,9 +143,12 @@ def scan(
     client: Any = None,
     *,
     progress: bool = False,
+    timeout: float | None = None,
     **eat_options: Any,
 ) -> pd.DataFrame:
-    """Scans every file of ``paths`` (see the module docstring); rows in the given order."""
+    """Scans every file of ``paths`` (see the module docstring); rows in the given order.
+    ``timeout``: seconds one file may take (see :func:`scan_one`); None: no limit, the
+    scan runs in the worker itself."""
     order = [str(p) for p in paths]
     if len(set(order)) != len(order):
         raise surfkit.InvalidInput("paths: a file is listed twice")
@@ -131,9 +161,9 @@ def scan(
             ) as cluster,
             Client(cluster) as local,
         ):
-            return scan(order, local, progress=progress, **eat_options)
+            return scan(order, local, progress=progress, timeout=timeout, **eat_options)
     rows = []
-    for k, row in enumerate(_rows(order, client, eat_options), start=1):
+    for k, row in enumerate(_rows(order, client, eat_options, timeout), start=1):
         rows.append(row)
         if progress:
             _progress(k, len(order))
@@ -154,57 +184,3 @@ def mesh_paths(folder: Path) -> list[str]:
     return sorted(
         str(p) for p in folder.rglob("*") if p.is_file() and p.suffix.lower() in MESH_SUFFIXES
     )
-
-
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog="python -m surfkit.batch",
-        description="The Euler Accompanying Test over every mesh file of a folder, on Dask.",
-    )
-    parser.add_argument("folder", type=Path)
-    parser.add_argument("--out", type=Path, required=True, help="the report (.parquet or .csv)")
-    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
-    parser.add_argument("--weld-tolerance", type=float, default=0.0)
-    parser.add_argument("--no-fix-check", action="store_true")
-    args = parser.parse_args(argv)
-    if not args.folder.is_dir():
-        parser.error(f"{args.folder}: not a folder")
-    if args.out.suffix not in (".parquet", ".csv"):
-        parser.error(f"{args.out}: the report must be .parquet or .csv")
-    if not args.out.parent.is_dir():
-        parser.error(f"{args.out.parent}: the output folder does not exist")
-    if args.workers < 1:
-        parser.error("--workers must be at least 1")
-    read = pd.read_parquet if args.out.suffix == ".parquet" else pd.read_csv
-    before = read(args.out) if args.out.exists() else pd.DataFrame(columns=COLUMNS)
-    known = set(before["path"].astype(str))
-    todo = [p for p in mesh_paths(args.folder) if p not in known]
-    options = {"weld_tolerance": args.weld_tolerance, "check_fixes": not args.no_fix_check}
-    if todo:
-        from distributed import Client, LocalCluster
-
-        with (
-            LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True) as cluster,
-            Client(cluster) as client,
-        ):
-            found = scan(todo, client, progress=True, **options)
-        frames = [f for f in (before, found) if len(f)]
-        report = pd.concat(frames, ignore_index=True) if len(frames) > 1 else found
-        temporary = args.out.with_name(args.out.name + ".partial")
-        if args.out.suffix == ".parquet":
-            report.to_parquet(temporary, index=False)
-        else:
-            report.to_csv(temporary, index=False)
-        temporary.replace(args.out)
-    failed = int(before["error"].notna().sum()) if len(before) else 0
-    if todo:
-        failed += int(found["error"].notna().sum())
-    print(
-        f"{len(todo)} files scanned, {len(known)} already in {args.out}, {failed} with an error",
-        file=sys.stderr,
-    )
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())
