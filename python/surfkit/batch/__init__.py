@@ -105,11 +105,35 @@ def _failed_row(path: str, error: BaseException) -> dict:
     return row
 
 
+def scan_many(
+    paths: list[str], options: dict[str, Any] | None = None, timeout: float | None = None
+) -> list[dict]:
+    """The rows of several files, one after the other (one task of :func:`scan`)."""
+    return [scan_one(p, options, timeout) for p in paths]
+
+
+def _chunks(paths: list[str], size: int | None) -> list[list[str]]:
+    """``paths`` cut into tasks: a task costs the scheduler about as much as scanning a
+    small file, so files go ``size`` at a time (by default n / 64, 1 to 32)."""
+    if size is None:
+        size = max(1, min(32, len(paths) // 64))
+    if size < 1:
+        raise surfkit.InvalidInput(f"chunk_size {size} must be at least 1")
+    return [paths[i : i + size] for i in range(0, len(paths), size)]
+
+
 def _rows(
-    paths: list[str], client: Any, options: dict[str, Any], timeout: float | None
+    paths: list[str],
+    client: Any,
+    options: dict[str, Any],
+    timeout: float | None,
+    chunk_size: int | None,
 ) -> Iterator[dict]:
-    """Rows in completion order through ``client.submit``."""
-    futures = {client.submit(scan_one, p, options, timeout): p for p in paths}
+    """Rows in completion order, a chunk of files per ``client.submit``."""
+    futures = {
+        client.submit(scan_many, chunk, options, timeout): chunk
+        for chunk in _chunks(paths, chunk_size)
+    }
     try:
         from distributed import as_completed as dask_completed
 
@@ -117,16 +141,20 @@ def _rows(
     except ImportError:
         dask_futures = False
     if dask_futures:
-        done: Iterable[Any] = dask_completed(list(futures))
-    else:
-        from concurrent.futures import as_completed
+        # Results come with the completions, in batches, not one round trip per task.
+        for future, rows in dask_completed(list(futures), with_results=True, raise_errors=False):
+            if future.status == "error":
+                yield from (_failed_row(p, future.exception()) for p in futures[future])
+            else:
+                yield from rows
+        return
+    from concurrent.futures import as_completed
 
-        done = as_completed(list(futures))
-    for future in done:
+    for future in as_completed(list(futures)):
         try:
-            yield future.result()
+            yield from future.result()
         except Exception as e:  # the worker died (a crash in a reader, out of memory)
-            yield _failed_row(futures[future], e)
+            yield from (_failed_row(p, e) for p in futures[future])
 
 
 def _frame(rows: list[dict], order: list[str]) -> pd.DataFrame:
@@ -144,11 +172,13 @@ def scan(
     *,
     progress: bool = False,
     timeout: float | None = None,
+    chunk_size: int | None = None,
     **eat_options: Any,
 ) -> pd.DataFrame:
     """Scans every file of ``paths`` (see the module docstring); rows in the given order.
     ``timeout``: seconds one file may take (see :func:`scan_one`); None: no limit, the
-    scan runs in the worker itself."""
+    scan runs in the worker itself. ``chunk_size``: files per task (default n / 64, 1 to
+    32; a task costs the scheduler about what a small file costs to scan)."""
     order = [str(p) for p in paths]
     if len(set(order)) != len(order):
         raise surfkit.InvalidInput("paths: a file is listed twice")
@@ -161,9 +191,16 @@ def scan(
             ) as cluster,
             Client(cluster) as local,
         ):
-            return scan(order, local, progress=progress, timeout=timeout, **eat_options)
+            return scan(
+                order,
+                local,
+                progress=progress,
+                timeout=timeout,
+                chunk_size=chunk_size,
+                **eat_options,
+            )
     rows = []
-    for k, row in enumerate(_rows(order, client, eat_options, timeout), start=1):
+    for k, row in enumerate(_rows(order, client, eat_options, timeout, chunk_size), start=1):
         rows.append(row)
         if progress:
             _progress(k, len(order))
