@@ -5,7 +5,8 @@
 //!   overhead (goal under 10 % at 100k);
 //! - two scans on a `ThreadPoolExecutor` of 2 threads against one (the GIL is released: on
 //!   2 cores about the time of one);
-//! - corpus throughput: `surfkit.batch.scan` on a 2-worker local Dask cluster against a
+//! - corpus throughput: `surfkit.batch.scan` on a 2-worker local Dask cluster and on a
+//!   2-process spawn `ProcessPoolExecutor` against a
 //!   pymeshlab loop (load + `get_topological_measures`) over the same files (goal ≥ 5×),
 //!   with the default options and without the OpenMesh structure and the fix check (the
 //!   counts and flaws pymeshlab's measures compare with); the cluster's start apart.
@@ -103,28 +104,33 @@ fn main() {
     args.extend(files.iter().cloned());
     let ours = support::python_peer("surfkit_python.py", &args).expect("surfkit.batch");
     let peer = support::python_peer("pymeshlab_files.py", &files).expect("pymeshlab");
-    let start = ours["start"].as_f64().unwrap();
     let peer_seconds = peer["seconds"].as_f64().unwrap();
     let n = files.len() as f64;
     println!(
-        "corpus of {} files, pymeshlab loop {:.2} s ({:.0} files/s); surfkit.batch.scan on 2 \
-         Dask workers (the cluster's start {:.2} s apart):",
+        "corpus of {} files, pymeshlab loop {:.2} s ({:.0} files/s); surfkit.batch.scan with \
+         2 workers:",
         files.len(),
         peer_seconds,
-        n / peer_seconds,
-        start
+        n / peer_seconds
     );
-    for (what, key) in [
-        ("default options", "scan"),
-        ("halfedge=False, check_fixes=False", "counts"),
+    for (engine, key) in [
+        ("Dask local cluster", "dask"),
+        ("spawn process pool", "pool"),
     ] {
-        let seconds = ours[key].as_f64().unwrap();
-        println!(
-            "  {what:<36} {seconds:.2} s ({:.0} files/s): {:.1}× ({:.1}× with the start)",
-            n / seconds,
-            peer_seconds / seconds,
-            peer_seconds / (seconds + start)
-        );
+        let start = ours[format!("{key}_start")].as_f64().unwrap();
+        for (what, suffix) in [
+            ("default options", ""),
+            ("halfedge=False, check_fixes=False", "_counts"),
+        ] {
+            let seconds = ours[format!("{key}{suffix}")].as_f64().unwrap();
+            println!(
+                "  {engine:<19} {what:<34} {seconds:.2} s ({:.0} files/s): {:.1}× \
+                 ({:.1}× with its {start:.2} s start)",
+                n / seconds,
+                peer_seconds / seconds,
+                peer_seconds / (seconds + start)
+            );
+        }
     }
     assert_eq!(ours["errors"].as_u64(), Some(0));
     assert_eq!(peer["errors"].as_u64(), Some(0));

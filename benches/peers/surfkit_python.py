@@ -6,10 +6,11 @@ Usage:
                                           OpenMesh structure and the fix check, and for each
                                           "<name>_threads": two scans on a ThreadPoolExecutor
                                           of 2 threads over one}
-  surfkit_python.py scan WORKERS FILE... -> {"start": s to start a local Dask cluster,
-                                          "scan": s of surfkit.batch.scan on it (defaults),
-                                          "counts": s without the OpenMesh structure and the
-                                          fix check, "errors"}
+  surfkit_python.py scan WORKERS FILE... -> seconds of surfkit.batch.scan on a local
+                                          Dask cluster ("dask", "dask_counts": without the
+                                          OpenMesh structure and the fix check) and on a
+                                          spawn ProcessPoolExecutor ("pool", "pool_counts"),
+                                          each with its start ("dask_start", "pool_start")
 """
 
 from __future__ import annotations
@@ -55,8 +56,23 @@ def eat(path: str, repeats: int) -> None:
 
 
 def scan(workers: int, paths: list[str]) -> None:
+    from concurrent.futures import ProcessPoolExecutor
+    from multiprocessing import get_context
+
     from distributed import Client, LocalCluster
     from surfkit import batch
+
+    counts = {"halfedge": False, "check_fixes": False}
+    out: dict[str, float] = {}
+    errors = 0
+
+    def run(name: str, client: object) -> None:
+        nonlocal errors
+        for suffix, options in [("", {}), ("_counts", counts)]:
+            t0 = time.perf_counter()
+            rows = batch.scan(paths, client, **options)
+            out[name + suffix] = time.perf_counter() - t0
+            errors += int(rows["error"].notna().sum())
 
     t0 = time.perf_counter()
     with (
@@ -65,18 +81,20 @@ def scan(workers: int, paths: list[str]) -> None:
         ) as cluster,
         Client(cluster) as client,
     ):
-        client.run(lambda: __import__("surfkit"))  # workers ready, surfkit imported
-        t1 = time.perf_counter()
-        rows = batch.scan(paths, client)
-        t2 = time.perf_counter()
-        counted = batch.scan(paths, client, halfedge=False, check_fixes=False)
-        t3 = time.perf_counter()
-    errors = int(rows["error"].notna().sum() + counted["error"].notna().sum())
-    print(
-        json.dumps(
-            {"start": t1 - t0, "scan": t2 - t1, "counts": t3 - t2, "errors": errors}
-        )
-    )
+        client.run(
+            lambda: __import__("surfkit.batch")
+        )  # workers ready, surfkit imported
+        out["dask_start"] = time.perf_counter() - t0
+        run("dask", client)
+    t0 = time.perf_counter()
+    with ProcessPoolExecutor(workers, mp_context=get_context("spawn")) as pool:
+        list(
+            pool.map(batch.scan_many, [[]] * workers)
+        )  # workers ready, surfkit imported
+        out["pool_start"] = time.perf_counter() - t0
+        run("pool", pool)
+    out["errors"] = errors
+    print(json.dumps(out))
 
 
 if __name__ == "__main__":
