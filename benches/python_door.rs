@@ -15,7 +15,7 @@
 
 mod support;
 
-use std::path::PathBuf;
+use std::path::Path;
 
 use surfkit::mesh::io::{read, write, WriteOptions};
 use surfkit::shapes::grid_torus;
@@ -23,7 +23,7 @@ use surfkit::topology::{scan, EatOptions};
 
 /// The library's time for what `surfkit.eat(mesh)` does: by default (`full`) with the
 /// OpenMesh structure and the fix check, else without both.
-fn library_seconds(path: &PathBuf, repeats: usize, full: bool) -> f64 {
+fn library_seconds(path: &Path, repeats: usize, full: bool) -> f64 {
     let mesh = read(path).unwrap();
     let options = EatOptions {
         halfedge: full,

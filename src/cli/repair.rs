@@ -12,11 +12,21 @@ use super::eat::TEST_FAILED;
 use crate::error::{Error, Result};
 use crate::mesh::io::{read_with, write, ReadOptions, WriteOptions};
 use crate::mesh::PolygonMesh;
-use crate::repair::{repair_located, Change, RepairOptions, Repaired};
+use crate::repair::{repair_located, Change, HoleFill, RepairOptions, Repaired};
 use crate::topology::{
     mark_flaws, scan, stage_ends, test_points, EatOptions, EatReport, Flaw, FlawKind,
     LocatorOptions, StageSource, TargetTopology,
 };
+
+/// How holes are closed (see `repair::HoleFill`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FillWith {
+    /// The 2022 paper's filled spline over the hole's plane where the surroundings are a
+    /// height field (new vertices on the spline); a fan elsewhere, saying why.
+    Spline,
+    /// Triangles around a new vertex at the border's centroid.
+    Fan,
+}
 
 #[derive(clap::Args, Debug)]
 pub struct RepairArgs {
@@ -27,10 +37,13 @@ pub struct RepairArgs {
     /// Repair only these flaw kinds (comma separated; default: every kind but `hole`).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
-    /// Also close holes of up to N edges, by a fan of triangles around their centroid.
+    /// Also close holes of up to N edges (see --fill-with).
     #[arg(long, value_name = "N",
           value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(3..=1_000_000))]
     pub fill_holes: Option<usize>,
+    /// How --fill-holes closes a hole of more than 4 edges.
+    #[arg(long, value_enum, default_value_t = FillWith::Spline, requires = "fill_holes")]
+    pub fill_with: FillWith,
     /// Distance under which distinct vertices are welded (default: same coordinates).
     #[arg(long, default_value_t = 0.0)]
     pub weld_tolerance: f64,
@@ -227,6 +240,10 @@ pub fn run(args: &RepairArgs) -> Result<ExitCode> {
     let options = RepairOptions {
         kinds: kinds(args)?,
         max_hole_edges: args.fill_holes.unwrap_or(0),
+        hole_fill: match args.fill_with {
+            FillWith::Spline => HoleFill::Spline,
+            FillWith::Fan => HoleFill::Fan,
+        },
         locator: LocatorOptions {
             weld_tolerance: args.weld_tolerance,
             crack_tolerance: args.crack_tolerance,

@@ -1,12 +1,15 @@
 //! Fixes on the boundary: split the edge of each crack at its T-vertices, close missing
 //! triangles and quads with the facet they lack, and (on request) holes up to a number of
-//! edges with a fan around their centroid. Each new facet runs opposite to the loop's
-//! facets, so it agrees with their orientation.
+//! edges with the 2022 paper's filled spline where their surroundings are a height field,
+//! or a fan around their centroid. Each new facet runs opposite to the loop's facets, so
+//! it agrees with their orientation.
 
 use foldhash::{HashMap as FxHashMap, HashMapExt};
 
 use super::change::{Action, Change};
 use super::editable::Editable;
+use super::spline_fill::{spline_fill, Corner, VertexFacets};
+use super::HoleFill;
 use crate::topology::{Flaw, FlawKind};
 
 /// Directed edges of the live facets → the facet ids running them.
@@ -92,9 +95,11 @@ pub fn close_loops(
     mesh: &mut Editable,
     flaws: &[Flaw],
     max_hole_edges: usize,
+    fill: HoleFill,
     changes: &mut Vec<Change>,
 ) {
     let edges = directed_edges(mesh);
+    let mut around: Option<VertexFacets> = None;
     for flaw in flaws {
         let small = matches!(flaw.kind, FlawKind::MissingTriangle | FlawKind::MissingQuad);
         let hole = flaw.kind == FlawKind::Hole
@@ -117,6 +122,47 @@ pub fn close_loops(
             ));
             continue;
         }
+        let mut why_fan = None;
+        if fill == HoleFill::Spline {
+            let around =
+                around.get_or_insert_with(|| VertexFacets::new(mesh.positions.len(), &mesh.faces));
+            match spline_fill(&cycle, &mesh.positions, &mesh.faces, around) {
+                Ok(filling) => {
+                    let ids: Vec<u32> = filling
+                        .points
+                        .iter()
+                        .map(|&p| mesh.add_vertex(p, None))
+                        .collect();
+                    let id = |c: Corner| match c {
+                        Corner::Border(k) => cycle[k],
+                        Corner::Interior(k) => ids[k],
+                    };
+                    let added: Vec<u32> = filling
+                        .triangles
+                        .iter()
+                        .map(|t| mesh.add_facet(t.map(id).to_vec(), beside))
+                        .collect();
+                    changes.push(Change::new(
+                        FlawKind::Hole,
+                        Action::AddFacet,
+                        added.clone(),
+                        ids.iter().chain(&cycle).copied().collect(),
+                        format!(
+                            "hole of {} edges filled with {} triangles and {} new vertices on \
+                             the 2022 paper's filled spline (biquadratic, {c} × {c} cells, {} \
+                             surrounding vertices fitted)",
+                            cycle.len(),
+                            added.len(),
+                            ids.len(),
+                            filling.data_points,
+                            c = filling.cells,
+                        ),
+                    ));
+                    continue;
+                }
+                Err(why) => why_fan = Some(why),
+            }
+        }
         let n = cycle.len() as f64;
         let centre = [0, 1, 2].map(|k| {
             cycle
@@ -137,8 +183,10 @@ pub fn close_loops(
             added,
             std::iter::once(c).chain(cycle.iter().copied()).collect(),
             format!(
-                "hole of {} edges closed by a fan of triangles around a new vertex {c} at its centroid",
-                cycle.len()
+                "hole of {} edges closed by a fan of triangles around a new vertex {c} at its \
+                 centroid{}",
+                cycle.len(),
+                why_fan.map_or(String::new(), |why| format!(" (no spline fill: {why})"))
             ),
         ));
     }

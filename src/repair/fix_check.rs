@@ -7,7 +7,7 @@
 
 use foldhash::{HashSet, HashSetExt};
 
-use super::{repair_located, RepairOptions};
+use super::{repair_located, HoleFill, RepairOptions};
 use crate::error::Result;
 use crate::mesh::PolygonMesh;
 use crate::topology::{scan, EatOptions, Flaw, FlawKind, LocatorOptions};
@@ -46,6 +46,8 @@ pub fn check_fixes(mesh: &PolygonMesh, flaws: &mut [Flaw], locator: LocatorOptio
     let options = RepairOptions {
         kinds,
         max_hole_edges: largest_hole,
+        // The check is about topology, which a fan and a spline fill change alike.
+        hole_fill: HoleFill::Fan,
         locator,
     };
     let repaired = repair_located(mesh, flaws, &options)?;

@@ -17,6 +17,7 @@ mod facets;
 mod fix_check;
 mod manifold;
 mod orientation;
+mod spline_fill;
 
 pub use change::{Action, Change};
 pub use fix_check::check_fixes;
@@ -30,8 +31,10 @@ use crate::topology::{scan, EatOptions, EatReport, Flaw, FlawKind, LocatorOption
 pub struct RepairOptions {
     /// The flaw kinds to repair (holes only up to `max_hole_edges`).
     pub kinds: Vec<FlawKind>,
-    /// Holes of up to this many edges are closed by a fan (0: none).
+    /// Holes of up to this many edges are closed (0: none).
     pub max_hole_edges: usize,
+    /// How those holes are closed.
+    pub hole_fill: HoleFill,
     pub locator: LocatorOptions,
 }
 
@@ -43,9 +46,21 @@ impl Default for RepairOptions {
                 .filter(|&k| k != FlawKind::Hole)
                 .collect(),
             max_hole_edges: 0,
+            hole_fill: HoleFill::default(),
             locator: LocatorOptions::default(),
         }
     }
+}
+
+/// How `repair` closes a hole.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum HoleFill {
+    /// Triangles around a new vertex at the border's centroid.
+    Fan,
+    /// The 2022 paper's filled spline over the hole's least-squares plane where its
+    /// surroundings are a height field there (a fan elsewhere, saying why).
+    #[default]
+    Spline,
 }
 
 impl RepairOptions {
@@ -159,7 +174,13 @@ pub fn repair_located(
         .filter(|f| options.wants(f.kind))
         .collect();
     boundary::split_cracks(&mut edit, &facet_ids, &flaws, &mut changes);
-    boundary::close_loops(&mut edit, &flaws, options.max_hole_edges, &mut changes);
+    boundary::close_loops(
+        &mut edit,
+        &flaws,
+        options.max_hole_edges,
+        options.hole_fill,
+        &mut changes,
+    );
     let (edges, vertices) = (
         options.wants(FlawKind::NonManifoldEdge),
         options.wants(FlawKind::NonManifoldVertex),
