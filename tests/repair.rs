@@ -318,3 +318,34 @@ fn fixes_that_cannot_work_on_a_moebius_strip_are_reported_unverified() {
     };
     assert!(repair(&strip, &all).unwrap().changes.is_empty());
 }
+
+#[test]
+fn two_tetrahedra_glued_on_a_duplicated_facet_come_apart_closed() {
+    // MeshLab's joined_tetrahedra: two tetrahedra sharing a face, written once per solid.
+    // Deleting the duplicate and taking the three non-manifold edges apart leaves one
+    // solid without that face: the repair closes the loop it opened, so the result is two
+    // closed tetrahedra (χ 2 each) with nothing of the repaired kinds left.
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/fixtures/meshes/joined_tetrahedra.obj"
+    );
+    let mesh = surfkit::mesh::io::read(std::path::Path::new(path)).unwrap();
+    let options = RepairOptions::default();
+    let repaired = repair(&mesh, &options).unwrap();
+    let after = eat(&repaired.mesh);
+    assert_eq!(
+        topology(&after),
+        (4, 0, 2, vec![Some(0), Some(0)]),
+        "{:?}",
+        repaired.changes
+    );
+    assert!(repaired.remaining(&after, &options).is_empty());
+    assert_eq!(
+        repaired
+            .changes
+            .iter()
+            .filter(|c| c.kind == FlawKind::MissingTriangle)
+            .count(),
+        1
+    );
+}

@@ -186,7 +186,25 @@ pub fn repair_located(
         options.wants(FlawKind::NonManifoldVertex),
     );
     if edges || vertices {
+        let before = changes.len();
         manifold::split_fans(&mut edit, edges, vertices, &mut changes);
+        if changes.len() > before {
+            // Taking facets apart can open loops the flaws above did not have (two solids
+            // glued on a duplicated facet lose that facet's copy on one side): close the
+            // ones of the kinds asked for.
+            let live = edit.live();
+            let opened: Vec<Flaw> = flaws_of(&live.mesh, options)?
+                .into_iter()
+                .filter(|f| f.kind.is_boundary_loop() && options.wants(f.kind))
+                .collect();
+            boundary::close_loops(
+                &mut edit,
+                &opened,
+                options.max_hole_edges,
+                options.hole_fill,
+                &mut changes,
+            );
+        }
     }
     if options.wants(FlawKind::InconsistentOrientation) {
         orientation::orient(&mut edit, &mut changes);
