@@ -116,8 +116,13 @@ fn main() {
         .define("_USE_MATH_DEFINES", None)
         .flag_if_supported("-Wno-deprecated-copy")
         .flag_if_supported("-Wno-unused-parameter")
-        .flag_if_supported("-Wno-maybe-uninitialized")
-        .compile("surfkit_openmesh");
+        .flag_if_supported("-Wno-maybe-uninitialized");
+    // OpenMesh's inline code asserts handles on every access unless NDEBUG (as its own
+    // Debian build does): off in release builds, on in debug builds.
+    if env::var("PROFILE").as_deref() == Ok("release") {
+        om.define("NDEBUG", None);
+    }
+    om.compile("surfkit_openmesh");
     link(&OPENMESH, &openmesh);
 
     // OpenSubdiv shim (plain C header for bindgen, C++ body compiled with cc).

@@ -1,7 +1,8 @@
 //! Small inputs that imply huge work (issue: hostile input), timed as whole `surfkit`
 //! processes next to the 10 s bound and, where it has the operation, pymeshlab (load +
 //! topological measures) in the same run. Inputs are generated into target/bench-data:
-//! one face of 400 000 corners (9 MB of OBJ), a cone fan of valence 1000, a UV sphere of 256
+//! one face of 400 000 corners (9 MB of OBJ), a cone fan of valence 1000 and one of a million
+//! triangles (every edge and vertex set at one vertex: 50 MB), a UV sphere of 256
 //! segments (poles of valence 256, 16 384 faces) and connected grids of 100 352 and 320 000
 //! triangles (every vertex extraordinary for Catmull–Clark).
 //!
@@ -133,6 +134,7 @@ fn pymeshlab(path: &Path) -> String {
 fn main() {
     let face = write_once("hostile_face_400k.obj", || big_face(400_000));
     let fan = write_once("hostile_fan_1000.obj", || fan(1000));
+    let hub = write_once("hostile_fan_1m.obj", || fan(1_000_000));
     let sphere = write_once("hostile_uv_sphere_256.obj", || uv_sphere(256, 64));
     let grid = write_once("hostile_grid_100k_triangles.obj", || triangle_grid(224));
     let big_grid = write_once("hostile_grid_320k_triangles.obj", || triangle_grid(400));
@@ -150,6 +152,11 @@ fn main() {
             "eat, one face of 400k corners".into(),
             vec!["eat", face.to_str().unwrap()],
             None,
+        ),
+        (
+            "eat, fan of 1M triangles round one vertex".into(),
+            vec!["eat", hub.to_str().unwrap()],
+            Some(&hub),
         ),
         (
             "limit, fan of valence 1000".into(),

@@ -11,6 +11,8 @@
 //!   F (a duplicated facet is a flaw to report, and F, E, V describe the file as written).
 //! - Edges with both ends at the same vertex (a repeated corner) are not edges.
 
+use foldhash::HashMap;
+
 /// A registered vertex: its input id and `vc`, the number of edges at it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct VertexItem {
@@ -80,6 +82,29 @@ pub struct EatRegistry {
     set_next: Vec<u32>,
     set_facet: Vec<u32>,
     fc: Vec<u32>,
+    /// Length of each vertex's edge and set chain. A vertex whose chain passes
+    /// `HUB_CHAIN` (the centre of a fan of a million triangles) is looked up through
+    /// `hub_edges` / `hub_sets` instead, which keeps registration linear on any input.
+    edge_chain: Vec<u32>,
+    set_chain: Vec<u32>,
+    hub_edges: HashMap<u64, u32>,
+    hub_sets: HashMap<Vec<u32>, u32>,
+}
+
+/// Chain length past which a vertex's edges and vertex sets are also kept in hash maps.
+const HUB_CHAIN: u32 = 32;
+
+/// The key of edge {lo, hi} in `hub_edges`.
+fn edge_key(lo: u32, hi: u32) -> u64 {
+    (u64::from(lo) << 32) | u64::from(hi)
+}
+
+/// A vertex set's key in `hub_sets`: its distinct vertices, sorted.
+fn set_key(corners: &[u32]) -> Vec<u32> {
+    let mut key = corners.to_vec();
+    key.sort_unstable();
+    key.dedup();
+    key
 }
 
 /// Whether two corner lists have the same vertex set.
@@ -104,6 +129,8 @@ impl EatRegistry {
         r.edge_next.reserve(corners / 2 + 16);
         r.edge_head.reserve(vertices);
         r.set_head.reserve(vertices);
+        r.edge_chain.reserve(vertices);
+        r.set_chain.reserve(vertices);
         r.facet_offsets.reserve(facets + 1);
         r.facet_corners.reserve(corners);
         r.corner_edge.reserve(corners);
@@ -178,6 +205,20 @@ impl EatRegistry {
         });
         self.edge_next.push(self.edge_head[a as usize]);
         self.edge_head[a as usize] = slot;
+        let chain = &mut self.edge_chain[a as usize];
+        *chain += 1;
+        if *chain > HUB_CHAIN {
+            if *chain == HUB_CHAIN + 1 {
+                let mut e = slot;
+                while e != NONE {
+                    let item = &self.edges[e as usize];
+                    self.hub_edges.insert(edge_key(item.a, item.b), e);
+                    e = self.edge_next[e as usize];
+                }
+            } else {
+                self.hub_edges.insert(edge_key(a, b), slot);
+            }
+        }
         self.vertices[self.slot_of_vertex[a as usize] as usize].vc += 1;
         self.vertices[self.slot_of_vertex[b as usize] as usize].vc += 1;
         slot
@@ -193,6 +234,15 @@ impl EatRegistry {
             self.fc.push(0);
             return (self.fc.len() - 1) as u32;
         };
+        if self.set_chain[min as usize] > HUB_CHAIN {
+            let key = set_key(corners);
+            if let Some(&set) = self.hub_sets.get(&key) {
+                return set;
+            }
+            let set = self.new_set(min, facet);
+            self.hub_sets.insert(key, set);
+            return set;
+        }
         let mut s = self.set_head[min as usize];
         while s != NONE {
             let f = self.set_facet[s as usize] as usize;
@@ -203,9 +253,31 @@ impl EatRegistry {
             }
             s = self.set_next[s as usize];
         }
+        let set = self.new_set(min, facet);
+        if self.set_chain[min as usize] > HUB_CHAIN {
+            // The chain just became long: every set on it goes into the map (the facet
+            // being registered is not in the facet list yet).
+            let mut s = set;
+            while s != NONE {
+                let f = self.set_facet[s as usize];
+                let key = if f == facet {
+                    set_key(corners)
+                } else {
+                    set_key(self.facet(f as usize))
+                };
+                self.hub_sets.insert(key, s);
+                s = self.set_next[s as usize];
+            }
+        }
+        set
+    }
+
+    /// A new vertex set first seen on `facet`, chained under its smallest vertex `min`.
+    fn new_set(&mut self, min: u32, facet: u32) -> u32 {
         let set = self.fc.len() as u32;
         self.set_next.push(self.set_head[min as usize]);
         self.set_head[min as usize] = set;
+        self.set_chain[min as usize] += 1;
         self.set_facet.push(facet);
         self.fc.push(0);
         set
@@ -217,6 +289,8 @@ impl EatRegistry {
             self.slot_of_vertex.resize(i + 1, NONE);
             self.edge_head.resize(i + 1, NONE);
             self.set_head.resize(i + 1, NONE);
+            self.edge_chain.resize(i + 1, 0);
+            self.set_chain.resize(i + 1, 0);
         }
         if self.slot_of_vertex[i] == u32::MAX {
             self.slot_of_vertex[i] = self.vertices.len() as u32;
@@ -254,6 +328,9 @@ impl EatRegistry {
     /// The Edge-list position of the edge {a, b}, if registered.
     pub fn edge_slot(&self, a: u32, b: u32) -> Option<u32> {
         let (lo, hi) = (a.min(b), a.max(b));
+        if *self.edge_chain.get(lo as usize)? > HUB_CHAIN {
+            return self.hub_edges.get(&edge_key(lo, hi)).copied();
+        }
         let mut e = *self.edge_head.get(lo as usize)?;
         while e != NONE {
             if self.edges[e as usize].b == hi {
@@ -298,6 +375,52 @@ impl EatRegistry {
 
 #[cfg(test)]
 mod tests {
+    /// A closed fan of `n` triangles around `hub` with rim vertices `rim(k)`, its facet 7
+    /// written twice (the second time rotated) and one spoke facet reversed.
+    fn fan(n: u32, hub: u32, rim: impl Fn(u32) -> u32) -> Vec<Vec<u32>> {
+        let mut facets: Vec<Vec<u32>> = (0..n)
+            .map(|k| vec![hub, rim(k), rim((k + 1) % n)])
+            .collect();
+        facets.push(vec![rim(7), rim(8), hub]);
+        facets[20].reverse();
+        facets
+    }
+
+    #[test]
+    fn a_hub_past_the_chain_length_counts_as_through_the_chains() {
+        // The hub as vertex 0 (its 300 edges and sets go into the hash maps) and as the
+        // last vertex (every chain stays short): the same counts, edge by edge.
+        let n = 300;
+        let hubbed = fan(n, 0, |k| k + 1);
+        let chained = fan(n, n, |k| k);
+        let relabel = |v: u32| if v == 0 { n } else { v - 1 };
+        let (mut a, mut b) = (EatRegistry::new(), EatRegistry::new());
+        for (fa, fb) in hubbed.iter().zip(&chained) {
+            a.register(fa);
+            b.register(fb);
+        }
+        assert!(a.edge_chain[0] > HUB_CHAIN && !a.hub_edges.is_empty() && !a.hub_sets.is_empty());
+        assert!(b.hub_edges.is_empty() && b.hub_sets.is_empty());
+        assert_eq!(
+            (a.vertex_count(), a.edge_count(), a.facet_count()),
+            (301, 600, 301)
+        );
+        assert_eq!(
+            (b.vertex_count(), b.edge_count(), b.facet_count()),
+            (301, 600, 301)
+        );
+        for e in a.edges() {
+            let other = b.edge_slot(relabel(e.a), relabel(e.b)).expect("same edge");
+            let o = &b.edges()[other as usize];
+            assert_eq!(e.ec, o.ec, "edge {:?}", (e.a, e.b));
+        }
+        for f in 0..a.facet_count() {
+            assert_eq!(a.facet_counter(f), b.facet_counter(f), "facet {f}");
+        }
+        assert_eq!(a.facet_counter(7), 2);
+        assert_eq!(a.facet_counter(300), 2);
+    }
+
     use super::*;
 
     #[test]
