@@ -133,8 +133,8 @@ fn pymeshlab(path: &Path) -> String {
 
 fn main() {
     let face = write_once("hostile_face_400k.obj", || big_face(400_000));
-    let fan = write_once("hostile_fan_1000.obj", || fan(1000));
     let hub = write_once("hostile_fan_1m.obj", || fan(1_000_000));
+    let fan = write_once("hostile_fan_1000.obj", || fan(1000));
     let sphere = write_once("hostile_uv_sphere_256.obj", || uv_sphere(256, 64));
     let grid = write_once("hostile_grid_100k_triangles.obj", || triangle_grid(224));
     let big_grid = write_once("hostile_grid_320k_triangles.obj", || triangle_grid(400));
