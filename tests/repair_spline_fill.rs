@@ -95,7 +95,12 @@ fn a_hole_in_a_height_field_is_filled_on_the_surface() {
     // A fan's centroid is far off the same surface: the spline is what makes it smooth.
     let fan = repair(&mesh, &fill(100, HoleFill::Fan)).unwrap();
     let c = fan.mesh.positions[mesh.vertex_count()];
-    assert!((c[2] - height(c[0], c[1])).abs() > 20.0 * worst);
+    let fan_off = (c[2] - height(c[0], c[1])).abs();
+    eprintln!(
+        "{} spline vertices at most {worst:.2e} off the surface; the fan's centroid {fan_off:.2e}",
+        new.len()
+    );
+    assert!(fan_off > 20.0 * worst);
 }
 
 #[test]

@@ -6,7 +6,7 @@ use std::ffi::c_int;
 
 use surfkit::subdiv::{
     curvature, limit_surface, refine_uniform, BoundaryInterpolation, Corner, Crease,
-    CreasingMethod, Derivatives, PatchOptions, PatchSurface, SubdivOptions, SurfacePoint,
+    CreasingMethod, Derivatives, PatchOptions, PatchSurface, SubdivOptions,
 };
 
 use crate::mesh::SurfkitMesh;
@@ -213,27 +213,7 @@ unsafe fn points(
     let ptex = slice(ptex, count, "ptex_faces")?;
     let u = slice(u, count, "u")?;
     let v = slice(v, count, "v")?;
-    let total = surface.ptex_face_count();
-    let mut points = Vec::with_capacity(count);
-    for i in 0..count {
-        if ptex[i] as usize >= total {
-            return Err(Failure::invalid(format!(
-                "point {i}: ptex face {} out of range (the surface has {total})",
-                ptex[i]
-            )));
-        }
-        if !((0.0..=1.0).contains(&u[i]) && (0.0..=1.0).contains(&v[i])) {
-            return Err(Failure::invalid(format!(
-                "point {i}: (u, v) = ({}, {}) is outside [0, 1]²",
-                u[i], v[i]
-            )));
-        }
-        points.push(SurfacePoint {
-            ptex_face: ptex[i],
-            u: u[i],
-            v: v[i],
-        });
-    }
+    let points = surface.surface_points(ptex, u, v)?;
     Ok(surface.evaluate(&points)?)
 }
 

@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use surfkit::subdiv::{
     limit_surface, refine_uniform, BoundaryInterpolation, Corner, Crease, CreasingMethod,
-    PatchOptions, PatchSurface, SubdivOptions, SurfacePoint,
+    PatchOptions, PatchSurface, SubdivOptions,
 };
 
 use crate::errors::{to_py, InvalidInput, TopologyError};
@@ -163,30 +163,10 @@ impl LimitSurface {
                 "curvature needs derivatives ≥ 2 (it is made of the second derivatives)",
             ));
         }
-        let (faces, u, v) = (faces.as_array(), u.as_array(), v.as_array());
-        if faces.len() != u.len() || u.len() != v.len() {
-            return Err(InvalidInput::new_err(format!(
-                "faces, u and v must have one entry per point: {}, {} and {}",
-                faces.len(),
-                u.len(),
-                v.len()
-            )));
-        }
-        let total = self.surface.ptex_face_count();
-        let mut points = Vec::with_capacity(faces.len());
-        for (i, ((&f, &u), &v)) in faces.iter().zip(u.iter()).zip(v.iter()).enumerate() {
-            if f as usize >= total {
-                return Err(InvalidInput::new_err(format!(
-                    "point {i}: ptex face {f} out of range (the surface has {total})"
-                )));
-            }
-            if !((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v)) {
-                return Err(InvalidInput::new_err(format!(
-                    "point {i}: (u, v) = ({u}, {v}) is outside [0, 1]²"
-                )));
-            }
-            points.push(SurfacePoint { ptex_face: f, u, v });
-        }
+        let points = self
+            .surface
+            .surface_points(faces.as_slice()?, u.as_slice()?, v.as_slice()?)
+            .map_err(to_py)?;
         let surface = &self.surface;
         let evaluated = py.detach(|| surface.evaluate(&points)).map_err(to_py)?;
         let n = evaluated.len();

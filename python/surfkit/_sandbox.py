@@ -90,11 +90,9 @@ class Sandbox:
 
 
 def _error_row(path: str, message: str, start: float) -> dict[str, Any]:
-    from surfkit.batch import COLUMNS
+    from surfkit.batch import error_row
 
-    row: dict[str, Any] = dict.fromkeys(COLUMNS)
-    row.update(path=path, error=message, seconds=time.perf_counter() - start)
-    return row
+    return error_row(path, message, time.perf_counter() - start)
 
 
 def _serve() -> None:

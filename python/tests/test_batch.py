@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
-from conftest import mesh_files
+from conftest import mesh_files, polygons
 from distributed import Client, LocalCluster
 
 import surfkit
@@ -26,16 +26,11 @@ from surfkit._sandbox import Sandbox
 VARIANTS = 42  # per fixture: 12 fixtures make 504 files
 
 
-def _polygons(mesh: surfkit.Mesh) -> list[list[int]]:
-    idx, off = mesh.face_indices, mesh.face_offsets
-    return [idx[off[f] : off[f + 1]].tolist() for f in range(len(off) - 1)]
-
-
 def _variant(mesh: surfkit.Mesh, k: int, rng: np.random.Generator) -> surfkit.Mesh | bytes:
     """Variant k of a mesh: as is, or with one flaw injected at a seeded random place, or
     a file no reader takes."""
     vertices = mesh.vertices
-    faces = _polygons(mesh)
+    faces = polygons(mesh)
     f = int(rng.integers(len(faces)))
     match k % 7:
         case 0:

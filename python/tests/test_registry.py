@@ -7,14 +7,9 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from conftest import mesh_files
+from conftest import mesh_files, polygons
 
 import surfkit
-
-
-def _polygons(mesh: surfkit.Mesh) -> list[list[int]]:
-    idx, off = mesh.face_indices, mesh.face_offsets
-    return [idx[off[f] : off[f + 1]].tolist() for f in range(mesh.face_count)]
 
 
 @pytest.mark.parametrize("path", mesh_files(), ids=lambda p: p.name)
@@ -23,7 +18,7 @@ def test_facet_by_facet_gives_the_cli_counts(path: Path, cli: Path):
     counts = json.loads(out.stdout)["report"]["counts"]
     mesh = surfkit.read_mesh(path)
     registry = surfkit.EatRegistry(vertex_count=mesh.vertex_count)
-    for f, corners in enumerate(_polygons(mesh)):
+    for f, corners in enumerate(polygons(mesh)):
         assert registry.add_facet(corners)["facet"] == f
     s = registry.statistics()
     assert (s["vertices"], s["edges"], s["facets"]) == (

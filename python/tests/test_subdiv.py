@@ -15,9 +15,18 @@ import surfkit
 QUAD_FIXTURES = ["catmark_torus.obj", "catmark_nonquads.obj", "spot.obj"]
 
 
-def _polygons(mesh: surfkit.Mesh) -> list[list[int]]:
-    idx, off = mesh.face_indices, mesh.face_offsets
-    return [idx[off[f] : off[f + 1]].tolist() for f in range(mesh.face_count)]
+def _random_grid(n: int, scale: float, seed: int) -> tuple[np.ndarray, surfkit.Mesh]:
+    """An n × n quad grid of unit squares with random heights (normal, `scale`): its
+    points (row j, column i at j (n + 1) + i) and the mesh."""
+    rng = np.random.default_rng(seed)
+    grid = np.array([[i, j, 0.0] for j in range(n + 1) for i in range(n + 1)], dtype=float)
+    grid[:, 2] = rng.normal(scale=scale, size=len(grid))
+    quads = [
+        [j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i]
+        for j in range(n)
+        for i in range(n)
+    ]
+    return grid, surfkit.Mesh(grid, quads)
 
 
 @pytest.mark.parametrize("name", QUAD_FIXTURES)
@@ -41,16 +50,8 @@ def test_subdivide_is_the_cli_subdivide(name: str, boundary: str, cli: Path, tmp
 def test_an_infinitely_sharp_crease_follows_the_cubic_b_spline_rules():
     """Along a sharp crease v0–v1–v2 the refined points are the curve's: edge points
     (v0 + v1) / 2, and the vertex point (v0 + 6 v1 + v2) / 8 (OpenSubdiv's crease rule)."""
-    rng = np.random.default_rng(7)
     n = 4
-    grid = np.array([[i, j, 0.0] for j in range(n + 1) for i in range(n + 1)])
-    grid[:, 2] = rng.normal(scale=0.3, size=len(grid))
-    quads = [
-        [j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i]
-        for j in range(n)
-        for i in range(n)
-    ]
-    mesh = surfkit.Mesh(grid, quads)
+    grid, mesh = _random_grid(n, 0.3, seed=7)
     row = [2 * (n + 1) + i for i in range(n + 1)]  # the middle row, an interior line
     creases = [(row[i], row[i + 1], 10.0) for i in range(n)]
     refined = surfkit.subdivide(mesh, 1, creases=creases)
@@ -79,16 +80,9 @@ def _bspline_basis(t: float, order: int) -> np.ndarray:
 def test_the_limit_on_a_regular_patch_is_the_bicubic_b_spline():
     """A quad grid's interior face is a regular patch: the limit surface there is the
     bicubic B-spline of its 4 × 4 neighbourhood, evaluated here independently."""
-    rng = np.random.default_rng(3)
     n = 5
-    grid = np.array([[i, j, 0.0] for j in range(n + 1) for i in range(n + 1)], dtype=float)
-    grid[:, 2] = rng.normal(scale=0.4, size=len(grid))
-    quads = [
-        [j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i]
-        for j in range(n)
-        for i in range(n)
-    ]
-    mesh = surfkit.Mesh(grid, quads)
+    grid, mesh = _random_grid(n, 0.4, seed=3)
+    rng = np.random.default_rng(4)
     face = 2 * n + 2  # rows and columns 1..4 of control points around it
     u, v = rng.uniform(size=20), rng.uniform(size=20)
     got = surfkit.limit(mesh, np.full(20, face), u, v, derivatives=2)

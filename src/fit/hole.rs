@@ -2,6 +2,7 @@
 //! (2022 §2, 2024 §2).
 
 use crate::error::{Error, Result};
+use crate::mesh::planar::{point_in_polygon, segments_meet};
 use crate::spline::{Cell, Grid};
 
 /// One component of a hole.
@@ -24,31 +25,6 @@ pub enum HoleShape {
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Hole {
     pub shapes: Vec<HoleShape>,
-}
-
-fn point_in_polygon(p: [f64; 2], poly: &[[f64; 2]]) -> bool {
-    let mut inside = false;
-    let n = poly.len();
-    for i in 0..n {
-        let (a, b) = (poly[i], poly[(i + 1) % n]);
-        if (a[1] > p[1]) != (b[1] > p[1]) {
-            let x = a[0] + (p[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);
-            if p[0] < x {
-                inside = !inside;
-            }
-        }
-    }
-    inside
-}
-
-fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
-    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-}
-
-fn segments_meet(p: [f64; 2], q: [f64; 2], r: [f64; 2], s: [f64; 2]) -> bool {
-    let (d1, d2) = (orient(r, s, p), orient(r, s, q));
-    let (d3, d4) = (orient(p, q, r), orient(p, q, s));
-    d1 * d2 <= 0.0 && d3 * d4 <= 0.0
 }
 
 impl HoleShape {

@@ -1,7 +1,8 @@
 //! Polygon meshes as surfkit holds them (`PolygonMesh`, a soup that never refuses input)
-//! and their files (`io`: OBJ, PLY, OFF).
+//! and their files (`io`: OBJ, PLY, OFF); vector and plane-polygon geometry.
 
 pub mod io;
+pub mod planar;
 mod polygon_mesh;
 pub mod vector;
 

@@ -11,6 +11,7 @@ use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 use crate::fit::data::ScatteredData;
 use crate::fit::fill::FillVariant;
 use crate::fit::pipeline::{fit_and_fill, FitSetup, HoleSource, SpaceKind};
+use crate::mesh::planar::{distance, distance_to_border, is_simple, point_in_polygon, signed_area};
 
 /// Rings of vertices around the hole whose heights the spline fits.
 const RINGS: usize = 3;
@@ -18,6 +19,9 @@ const RINGS: usize = 3;
 const EPSILON: f64 = 1e-6;
 /// Most interior points of one filled hole.
 const MAX_INTERIOR_POINTS: usize = 200_000;
+/// Most border edges of a hole filled this way: the simplicity check and each interior
+/// point's distance to the border go over every edge (a larger hole gets a fan).
+const MAX_BORDER_EDGES: usize = 2000;
 
 /// A corner of a filling triangle: a vertex of the hole's border (by its position in the
 /// cycle) or a new interior point.
@@ -83,6 +87,11 @@ pub fn spline_fill(
     faces: &[Option<Vec<u32>>],
     around: &VertexFacets,
 ) -> Result<SplineFilling, String> {
+    if cycle.len() > MAX_BORDER_EDGES {
+        return Err(format!(
+            "its border has more than {MAX_BORDER_EDGES} edges (the spline fill's bound)"
+        ));
+    }
     let (ring_vertices, ring_facets) = rings(cycle, faces, around);
     let points: Vec<[f64; 3]> = ring_vertices
         .iter()
@@ -93,7 +102,7 @@ pub fn spline_fill(
     let mut sign = 0.0;
     for &f in &ring_facets {
         let corners = faces[f as usize].as_ref().expect("live facet");
-        let area = polygon_area(
+        let area = signed_area(
             &corners
                 .iter()
                 .map(|&v| frame.uv(positions[v as usize]))
@@ -112,16 +121,16 @@ pub fn spline_fill(
         .iter()
         .map(|&v| frame.uv(positions[v as usize]))
         .collect();
-    if !is_simple(&border) {
-        return Err("its border does not project to a simple polygon".into());
-    }
     // The new facets run as the cycle does and must cover the hole beside the surrounding
     // facets, not on top of them (an outer border encloses its surface instead).
-    if polygon_area(&border) * sign <= 0.0 {
+    if signed_area(&border) * sign <= 0.0 {
         return Err(
             "its surroundings lie inside its border in projection (an outer border, not a hole)"
                 .into(),
         );
+    }
+    if !is_simple(&border) {
+        return Err("its border does not project to a simple polygon".into());
     }
     let data = ScatteredData {
         params: points.iter().map(|&p| frame.uv(p)).collect(),
@@ -255,84 +264,6 @@ impl Frame {
     }
 }
 
-/// The signed area (shoelace formula): positive when the polygon runs counter-clockwise.
-fn polygon_area(p: &[[f64; 2]]) -> f64 {
-    (0..p.len())
-        .map(|k| {
-            let (a, b) = (p[k], p[(k + 1) % p.len()]);
-            a[0] * b[1] - b[0] * a[1]
-        })
-        .sum::<f64>()
-        / 2.0
-}
-
-fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
-}
-
-/// No two edges of the closed polygon meet except neighbours at their shared corner.
-fn is_simple(p: &[[f64; 2]]) -> bool {
-    let n = p.len();
-    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
-        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-    };
-    for i in 0..n {
-        let (a, b) = (p[i], p[(i + 1) % n]);
-        if distance(a, b) == 0.0 {
-            return false;
-        }
-        for j in i + 1..n {
-            if j == i + 1 || (i == 0 && j == n - 1) {
-                continue;
-            }
-            let (c, d) = (p[j], p[(j + 1) % n]);
-            let (d1, d2) = (cross(a, b, c), cross(a, b, d));
-            let (d3, d4) = (cross(c, d, a), cross(c, d, b));
-            let collinear = d1 == 0.0 && d2 == 0.0;
-            let overlap =
-                |k: usize| a[k].min(b[k]) <= c[k].max(d[k]) && c[k].min(d[k]) <= a[k].max(b[k]);
-            let meet = if collinear {
-                overlap(0) && overlap(1)
-            } else {
-                d1 * d2 <= 0.0 && d3 * d4 <= 0.0
-            };
-            if meet {
-                return false;
-            }
-        }
-    }
-    true
-}
-
-/// Whether `q` is inside the polygon (crossing number).
-fn inside(p: &[[f64; 2]], q: [f64; 2]) -> bool {
-    let mut odd = false;
-    for k in 0..p.len() {
-        let (a, b) = (p[k], p[(k + 1) % p.len()]);
-        if (a[1] > q[1]) != (b[1] > q[1]) {
-            let x = a[0] + (q[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
-            if q[0] < x {
-                odd = !odd;
-            }
-        }
-    }
-    odd
-}
-
-/// Distance from `q` to the polygon's border.
-fn border_distance(p: &[[f64; 2]], q: [f64; 2]) -> f64 {
-    (0..p.len())
-        .map(|k| {
-            let (a, b) = (p[k], p[(k + 1) % p.len()]);
-            let ab = [b[0] - a[0], b[1] - a[1]];
-            let t = (((q[0] - a[0]) * ab[0] + (q[1] - a[1]) * ab[1])
-                / (ab[0] * ab[0] + ab[1] * ab[1]))
-                .clamp(0.0, 1.0);
-            distance(q, [a[0] + t * ab[0], a[1] + t * ab[1]])
-        })
-        .fold(f64::INFINITY, f64::min)
-}
-
 /// A lattice of points at `spacing` inside the polygon, none closer than half a spacing to
 /// its border.
 fn interior_points(border: &[[f64; 2]], spacing: f64) -> Result<Vec<[f64; 2]>, String> {
@@ -359,7 +290,7 @@ fn interior_points(border: &[[f64; 2]], spacing: f64) -> Result<Vec<[f64; 2]>, S
         for j in 0..nv {
             let shift = if j % 2 == 1 { 0.5 } else { 0.0 };
             let q = [lo[0] + (i as f64 + shift) * spacing, lo[1] + j as f64 * row];
-            if inside(border, q) && border_distance(border, q) > 0.5 * spacing {
+            if point_in_polygon(q, border) && distance_to_border(q, border) > 0.5 * spacing {
                 out.push(q);
             }
         }
@@ -402,7 +333,7 @@ fn triangulate(border: &[[f64; 2]], interior: &[[f64; 2]]) -> Result<Vec<[Corner
             return Err("an interior point fell on another point".into());
         }
     }
-    let sign = polygon_area(border).signum();
+    let sign = signed_area(border).signum();
     let mut triangles = Vec::new();
     for face in cdt.inner_faces() {
         let v = face.vertices();
@@ -411,11 +342,11 @@ fn triangulate(border: &[[f64; 2]], interior: &[[f64; 2]]) -> Result<Vec<[Corner
             (q[0][0] + q[1][0] + q[2][0]) / 3.0,
             (q[0][1] + q[1][1] + q[2][1]) / 3.0,
         ];
-        if !inside(border, centroid) {
+        if !point_in_polygon(centroid, border) {
             continue;
         }
         let mut corners = v.map(|x| corner_of[&x.fix().index()]);
-        if polygon_area(&q) * sign < 0.0 {
+        if signed_area(&q) * sign < 0.0 {
             corners.swap(1, 2);
         }
         triangles.push(corners);
@@ -437,32 +368,23 @@ mod tests {
                 Corner::Border(k) => square[k],
                 Corner::Interior(_) => [0.5, 0.5],
             });
-            assert!(polygon_area(&q) > 0.0);
+            assert!(signed_area(&q) > 0.0);
         }
     }
 
     #[test]
-    fn a_bow_tie_is_not_simple() {
-        assert!(!is_simple(&[
-            [0.0, 0.0],
-            [1.0, 1.0],
-            [1.0, 0.0],
-            [0.0, 1.0]
-        ]));
-        assert!(is_simple(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]));
-        // Collinear edges that do not overlap (a square's side in two pieces).
-        assert!(is_simple(&[
-            [0.0, 0.0],
-            [0.5, 0.0],
-            [1.0, 0.0],
-            [1.0, 1.0],
-            [0.0, 1.0]
-        ]));
-        assert!(!is_simple(&[
-            [0.0, 0.0],
-            [2.0, 0.0],
-            [1.0, 0.0],
-            [1.0, 1.0]
-        ]));
+    fn a_border_past_the_bound_is_left_to_the_fan() {
+        let n = MAX_BORDER_EDGES + 1;
+        let positions: Vec<[f64; 3]> = (0..n)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / n as f64;
+                [a.cos(), a.sin(), 0.0]
+            })
+            .collect();
+        let cycle: Vec<u32> = (0..n as u32).collect();
+        let faces = vec![Some(cycle.clone())];
+        let around = VertexFacets::new(n, &faces);
+        let why = spline_fill(&cycle, &positions, &faces, &around).unwrap_err();
+        assert!(why.contains("more than 2000 edges"), "{why}");
     }
 }

@@ -439,6 +439,44 @@ impl PatchSurface {
         Ok(pts)
     }
 
+    /// Points given as three parallel arrays (ptex face, u, v), checked one by one.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for arrays of different lengths, or naming the first point
+    /// whose ptex face does not exist or whose `(u, v)` is outside `[0, 1]²`.
+    pub fn surface_points(&self, ptex: &[u32], u: &[f64], v: &[f64]) -> Result<Vec<SurfacePoint>> {
+        if ptex.len() != u.len() || u.len() != v.len() {
+            return Err(Error::InvalidInput(format!(
+                "ptex faces, u and v must have one entry per point: {}, {} and {}",
+                ptex.len(),
+                u.len(),
+                v.len()
+            )));
+        }
+        let total = self.ptex_face_count();
+        (0..ptex.len())
+            .map(|i| {
+                if ptex[i] as usize >= total {
+                    return Err(Error::InvalidInput(format!(
+                        "point {i}: ptex face {} out of range (the surface has {total})",
+                        ptex[i]
+                    )));
+                }
+                if !((0.0..=1.0).contains(&u[i]) && (0.0..=1.0).contains(&v[i])) {
+                    return Err(Error::InvalidInput(format!(
+                        "point {i}: (u, v) = ({}, {}) is outside [0, 1]²",
+                        u[i], v[i]
+                    )));
+                }
+                Ok(SurfacePoint {
+                    ptex_face: ptex[i],
+                    u: u[i],
+                    v: v[i],
+                })
+            })
+            .collect()
+    }
+
     /// The patch holding `point` and the point's coordinates `(s, t)` in that patch's unit
     /// square.
     ///

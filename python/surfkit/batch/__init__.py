@@ -98,11 +98,16 @@ def scan_one(
     return row
 
 
+def error_row(path: str, message: str, seconds: float) -> dict:
+    """The row of a file whose scan did not give one: only its error and time."""
+    row: dict[str, Any] = dict.fromkeys(COLUMNS)
+    row.update(path=path, error=message, seconds=seconds)
+    return row
+
+
 def _failed_row(path: str, error: BaseException) -> dict:
     """The row of a task that died outside scan_one (a crashed or killed worker)."""
-    row: dict[str, Any] = dict.fromkeys(COLUMNS)
-    row.update(path=path, error=f"{type(error).__name__}: {error}", seconds=float("nan"))
-    return row
+    return error_row(path, f"{type(error).__name__}: {error}", float("nan"))
 
 
 def scan_many(
