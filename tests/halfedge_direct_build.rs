@@ -10,6 +10,7 @@ use std::collections::BTreeSet;
 use surfkit::halfedge::{build, FaceStatus, HalfEdgeTopology, OpenMeshHalfEdge};
 use surfkit::mesh::PolygonMesh;
 use surfkit::shapes::grid_torus;
+use surfkit::topology::{scan, EatOptions};
 
 /// The structure OpenMesh's add_face makes of `mesh`: vertices first, then every face.
 fn by_add_face(mesh: &PolygonMesh) -> (OpenMeshHalfEdge, Vec<FaceStatus>) {
@@ -54,6 +55,16 @@ fn loops(m: &OpenMeshHalfEdge) -> BTreeSet<Vec<u32>> {
 
 fn same_structure(name: &str, mesh: &PolygonMesh) {
     let direct = build(mesh).unwrap();
+    // The direct build takes every mesh whose vertices each have one fan of facets (the
+    // EAT's count, independent of OpenMesh); add_face also takes boundary vertices with
+    // several fans, which go face by face.
+    let options = EatOptions {
+        halfedge: false,
+        ..EatOptions::default()
+    };
+    let one_fan_each = scan(mesh, &options).unwrap().counts.non_manifold_vertices == 0;
+    assert_eq!(direct.built_directly, one_fan_each, "{name}: built directly");
+    assert_eq!(direct.face_status.len(), mesh.face_count(), "{name}: statuses");
     assert!(direct.refused().next().is_none(), "{name}: refusals");
     let (reference, status) = by_add_face(mesh);
     assert!(
@@ -99,6 +110,24 @@ fn manifold_fixtures_and_generated_meshes_give_add_faces_structure() {
     for (nu, nv, tri) in [(7, 5, false), (12, 9, true), (3, 3, true)] {
         same_structure(&format!("torus {nu}×{nv}"), &grid_torus(nu, nv, tri));
     }
+    // Faces of several sizes (the direct build keeps next/prev arrays for these): every
+    // third quad of a quad torus split into two triangles.
+    let quads = grid_torus(10, 8, false);
+    let mixed: Vec<Vec<u32>> = quads
+        .faces()
+        .enumerate()
+        .flat_map(|(f, c)| {
+            if f % 3 == 0 {
+                vec![vec![c[0], c[1], c[2]], vec![c[0], c[2], c[3]]]
+            } else {
+                vec![c.to_vec()]
+            }
+        })
+        .collect();
+    same_structure(
+        "quads and triangles",
+        &PolygonMesh::from_polygons(quads.positions.clone(), &mixed),
+    );
     // Open meshes: a torus with a hole, and with facets taken out here and there (holes,
     // boundary vertices of valence 2, isolated facets) where add_face takes them all.
     let torus = grid_torus(16, 12, true);
@@ -138,6 +167,7 @@ fn a_non_manifold_mesh_still_reports_what_openmesh_refuses() {
     ];
     let mesh =
         PolygonMesh::from_polygons(positions, &[vec![0, 1, 2], vec![1, 0, 3], vec![0, 1, 4]]);
+    assert!(!build(&mesh).unwrap().built_directly);
     let built = build(&mesh).unwrap();
     let refused: Vec<(usize, FaceStatus)> = built.refused().collect();
     assert_eq!(refused.len(), 1, "{refused:?}");

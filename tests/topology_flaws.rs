@@ -259,3 +259,27 @@ fn each_injected_flaw_is_found_with_its_kind_and_ids() {
         );
     }
 }
+
+#[test]
+fn loops_joined_at_a_non_manifold_edge_are_not_holes_to_fill() {
+    // OpenSubdiv's test mesh: 100 quads on one edge. Walking their borders joins them in
+    // pairs at the edge's ends; filling such a loop would put a 101st facet on the edge.
+    let path = common::meshes_dir().join("catmark_nonman_edge100.obj");
+    let mesh = surfkit::mesh::io::read(&path).unwrap();
+    let mut report = scan(&mesh, &EatOptions::default()).unwrap();
+    surfkit::repair::check_fixes(&mesh, &mut report.flaws, Default::default()).unwrap();
+    let edges = flaws_of(&report, FlawKind::NonManifoldEdge);
+    assert_eq!(edges.len(), 1);
+    let (ends, on_edge) = (&edges[0].vertices, &edges[0].faces);
+    assert_eq!(on_edge.len(), 100);
+    assert_eq!(edges[0].fix_verified, Some(true), "the separation is checked");
+    let loops = flaws_of(&report, FlawKind::Hole);
+    assert_eq!(loops.len(), 50);
+    for l in loops {
+        assert!(ends.iter().all(|v| l.vertices.contains(v)), "{l:?}");
+        assert_eq!(sorted(&l.faces), sorted(on_edge));
+        let edge = format!("{{{}, {}}}", ends[0], ends[1]);
+        assert!(l.suggested_fix.contains(&edge), "{}", l.suggested_fix);
+        assert!(!l.suggested_fix.contains("fill"), "{}", l.suggested_fix);
+    }
+}

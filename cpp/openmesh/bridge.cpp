@@ -159,18 +159,35 @@ bool build_manifold(HalfEdgeMesh& m, rust::Slice<const uint32_t> offsets,
   const uint32_t* const corner = indices.data();
   const uint32_t* const offset = offsets.data();
   if (nh >= NONE || nv >= NONE) return false;
-  std::vector<uint32_t> next(nh), prev(nh);
+  // Corner h's successor and predecessor in its face. Meshes of one face size (all
+  // triangles, all quads) compute them; others keep two arrays of one entry per corner.
+  uint32_t arity = nf > 0 ? offset[1] - offset[0] : 0;
+  for (size_t f = 0; f < nf && arity != 0; ++f)
+    if (offset[f + 1] - offset[f] != arity || offset[f] != f * arity) arity = 0;
+  std::vector<uint32_t> next_of, prev_of;
+  if (arity == 0) {
+    next_of.resize(nh);
+    prev_of.resize(nh);
+  }
   for (size_t f = 0; f < nf; ++f) {
     const uint32_t a = offset[f], b = offset[f + 1];
     if (b < a || b - a < 3) return false;
     for (uint32_t h = a; h < b; ++h) {
       if (corner[h] >= nv) return false;
-      next[h] = h + 1 < b ? h + 1 : a;
-      prev[h] = h > a ? h - 1 : b - 1;
+      if (arity == 0) {
+        next_of[h] = h + 1 < b ? h + 1 : a;
+        prev_of[h] = h > a ? h - 1 : b - 1;
+      }
     }
   }
+  auto next = [&](uint32_t h) {
+    return arity != 0 ? (h % arity + 1 == arity ? h + 1 - arity : h + 1) : next_of[h];
+  };
+  auto prev = [&](uint32_t h) {
+    return arity != 0 ? (h % arity == 0 ? h + arity - 1 : h - 1) : prev_of[h];
+  };
   auto from = [&](uint32_t h) { return corner[h]; };
-  auto to = [&](uint32_t h) { return corner[next[h]]; };
+  auto to = [&](uint32_t h) { return corner[next(h)]; };
   // The half-edges leaving each vertex, each vertex's run sorted by the vertex they reach
   // (so a repeated direction is two neighbours and a twin one binary search, whatever the
   // valence: a hub of a million triangles costs n log n, not n²).
@@ -210,7 +227,7 @@ bool build_manifold(HalfEdgeMesh& m, rust::Slice<const uint32_t> offsets,
     uint32_t seen = 1, h = start;
     bool closed = false;
     while (true) {
-      const uint32_t t = twin[prev[h]];
+      const uint32_t t = twin[prev(h)];
       if (t == NONE) break;
       if (t == start) {
         closed = true;
@@ -222,37 +239,43 @@ bool build_manifold(HalfEdgeMesh& m, rust::Slice<const uint32_t> offsets,
     if (!closed) {
       h = start;
       while (twin[h] != NONE) {
-        h = next[twin[h]];
+        h = next(twin[h]);
         if (++seen > count) return false;
       }
     }
     if (seen != count) return false;
   }
   // The structure: an edge's half-edge 0 runs from the start given to new_edge to its end.
+  // Storage sized once (new_edge and new_face resize every property per element).
   PolyMesh& mesh = m.mesh;
+  size_t ne = 0;
+  for (uint32_t h = 0; h < nh; ++h) ne += twin[h] == NONE || twin[h] > h;
+  mesh.resize(nv, ne, nf);
   std::vector<PolyMesh::HalfedgeHandle> om(nh);
   std::vector<PolyMesh::HalfedgeHandle> boundary_out(nv);
   std::vector<PolyMesh::HalfedgeHandle> boundary;
+  int e = 0;
   for (uint32_t h = 0; h < nh; ++h) {
     if (twin[h] != NONE && twin[h] < h) continue;
-    // new_edge returns the edge's half-edge 0.
-    const auto h0 = mesh.new_edge(PolyMesh::VertexHandle(static_cast<int>(from(h))),
-                                  PolyMesh::VertexHandle(static_cast<int>(to(h))));
+    // Half-edge 0 of edge e runs from(h) -> to(h), as new_edge would set it.
+    const PolyMesh::EdgeHandle eh(e++);
+    const auto h0 = mesh.halfedge_handle(eh, 0), h1 = mesh.halfedge_handle(eh, 1);
+    mesh.set_vertex_handle(h0, PolyMesh::VertexHandle(static_cast<int>(to(h))));
+    mesh.set_vertex_handle(h1, PolyMesh::VertexHandle(static_cast<int>(from(h))));
     om[h] = h0;
     if (twin[h] != NONE) {
-      om[twin[h]] = mesh.opposite_halfedge_handle(h0);
+      om[twin[h]] = h1;
     } else {
-      const auto b = mesh.opposite_halfedge_handle(h0);  // to(h) -> from(h), no face
-      boundary_out[to(h)] = b;
-      boundary.push_back(b);
+      boundary_out[to(h)] = h1;  // to(h) -> from(h), no face
+      boundary.push_back(h1);
     }
   }
   for (size_t f = 0; f < nf; ++f) {
-    const auto fh = mesh.new_face();
+    const PolyMesh::FaceHandle fh(static_cast<int>(f));
     mesh.set_halfedge_handle(fh, om[offset[f]]);
     for (uint32_t h = offset[f]; h < offset[f + 1]; ++h) {
       mesh.set_face_handle(om[h], fh);
-      mesh.set_next_halfedge_handle(om[h], om[next[h]]);
+      mesh.set_next_halfedge_handle(om[h], om[next(h)]);
     }
   }
   for (const auto b : boundary)
@@ -290,7 +313,7 @@ std::unique_ptr<HalfEdgeMesh> build(rust::Slice<const double> positions,
   m->input_face.reserve(nf);
   log.face_status.reserve(nf);
   if (build_manifold(*m, offsets, indices)) {
-    for (size_t f = 0; f < nf; ++f) log.face_status.push_back(ADDED);
+    log.all_added = true;  // face_status stays empty: a push_back per face crosses into Rust
     return m;
   }
   std::string said;

@@ -6,8 +6,10 @@
 pub mod bridge {
     /// What happened to each input face, and everything OpenMesh said about it.
     struct BuildLog {
-        /// One `halfedge::FaceStatus` code per input face.
+        /// One `halfedge::FaceStatus` code per input face, or none when `all_added`.
         face_status: Vec<u8>,
+        /// Every face was added (the direct build of an oriented 2-manifold).
+        all_added: bool,
         messages: String,
     }
 

@@ -20,6 +20,8 @@ pub struct Built {
     pub mesh: OpenMeshHalfEdge,
     pub face_status: Vec<FaceStatus>,
     pub messages: String,
+    /// The structure was built directly (an oriented 2-manifold), not face by face.
+    pub built_directly: bool,
 }
 
 impl Built {
@@ -52,6 +54,7 @@ pub fn build(mesh: &PolygonMesh) -> Result<Built> {
     mesh.validate()?;
     let mut log = bridge::BuildLog {
         face_status: Vec::new(),
+        all_added: false,
         messages: String::new(),
     };
     let inner = bridge::build(
@@ -63,12 +66,16 @@ pub fn build(mesh: &PolygonMesh) -> Result<Built> {
     .map_err(ffi_error)?;
     Ok(Built {
         mesh: OpenMeshHalfEdge { inner },
-        face_status: log
-            .face_status
-            .into_iter()
-            .map(FaceStatus::from_code)
-            .collect(),
+        face_status: if log.all_added {
+            vec![FaceStatus::Added; mesh.face_count()]
+        } else {
+            log.face_status
+                .into_iter()
+                .map(FaceStatus::from_code)
+                .collect()
+        },
         messages: log.messages,
+        built_directly: log.all_added,
     })
 }
 

@@ -2,6 +2,8 @@
 //! (Beyond the paper, which only tells that χ is wrong since the last verified point.)
 
 use crate::mesh::vector::distance;
+use std::hash::BuildHasher;
+
 use foldhash::{HashMap as FxHashMap, HashMapExt};
 
 use super::cracks::stitch_cracks;
@@ -176,10 +178,32 @@ fn loop_flaw(
     median_edge: f64,
     component: Option<u32>,
     own_facet: Option<u32>,
+    joined_at: Option<&NonManifoldEdgeSides>,
 ) -> Flaw {
     let shape = loop_shape(&cycle, positions, median_edge);
     let n = cycle.len();
     let position = centroid(cycle.iter().map(|&v| positions[v as usize]));
+    if let (None, Some(edge)) = (own_facet, joined_at) {
+        // Filling such a loop would put one more facet on the edge: the separation is
+        // the fix, and its own flaw (the non-manifold edge) carries it, checked.
+        let [a, b] = edge.ends;
+        return Flaw {
+            kind: FlawKind::Hole,
+            description: format!(
+                "boundary loop of {n} edges through both ends of non-manifold edge {{{a}, {b}}}, perimeter {:.6}: the borders of facets that meet on that edge, joined by the walk — not a hole to fill",
+                shape.perimeter
+            ),
+            vertices: cycle,
+            faces: edge.faces.clone(),
+            position,
+            shape: Some(shape),
+            component,
+            fix_verified: None,
+            suggested_fix: format!(
+                "separate the facets of edge {{{a}, {b}}} (the non_manifold_edge flaw's fix: surfkit repair --only non_manifold_edge), then scan again; what is left is the border of the pieces"
+            ),
+        };
+    }
     if let Some(f) = own_facet {
         return Flaw {
             kind: FlawKind::Hole,
@@ -234,6 +258,30 @@ fn loop_flaw(
         fix_verified: None,
         suggested_fix: fix,
     }
+}
+
+/// A non-manifold edge: its ends and the input ids of the facets on it.
+struct NonManifoldEdgeSides {
+    ends: [u32; 2],
+    faces: Vec<u32>,
+}
+
+/// The edges of more than two facets.
+fn non_manifold_edge_sides(
+    registry: &EatRegistry,
+    structure: &Structure,
+    facet_id: impl Fn(u32) -> u32,
+) -> Vec<NonManifoldEdgeSides> {
+    registry
+        .edges()
+        .iter()
+        .enumerate()
+        .filter(|(_, item)| item.ec > 2)
+        .map(|(e, item)| NonManifoldEdgeSides {
+            ends: [item.a, item.b],
+            faces: structure.sides_of(e).map(|s| facet_id(s.facet)).collect(),
+        })
+        .collect()
 }
 
 /// Every flaw of the registered facets. `vertex_count` is the number of vertices in the
@@ -349,6 +397,23 @@ pub fn locate_with(
             faces,
         });
     }
+    let non_manifold = non_manifold_edge_sides(registry, structure, facet_id);
+    let mut non_manifold_at: FxHashMap<u32, Vec<usize>> = FxHashMap::new();
+    for (i, e) in non_manifold.iter().enumerate() {
+        non_manifold_at.entry(e.ends[0]).or_default().push(i);
+    }
+    let joined_at = |cycle: &[u32]| {
+        if non_manifold.is_empty() {
+            return None;
+        }
+        let on_loop: foldhash::HashSet<u32> = cycle.iter().copied().collect();
+        cycle
+            .iter()
+            .filter_map(|v| non_manifold_at.get(v))
+            .flatten()
+            .map(|&i| &non_manifold[i])
+            .find(|e| on_loop.contains(&e.ends[1]))
+    };
     for (w, cycle) in walks.iter().enumerate() {
         if !stitched.stitched_walk[w] {
             let own = own_facet(cycle);
@@ -358,12 +423,21 @@ pub fn locate_with(
                 median,
                 walk_components[w],
                 own,
+                joined_at(cycle),
             ));
         }
     }
     for (cycle, w) in stitched.remaining.iter().cloned() {
         let own = own_facet(&cycle);
-        flaws.push(loop_flaw(cycle, positions, median, walk_components[w], own));
+        let joined = joined_at(&cycle);
+        flaws.push(loop_flaw(
+            cycle,
+            positions,
+            median,
+            walk_components[w],
+            own,
+            joined,
+        ));
     }
 
     for (e, item) in registry.edges().iter().enumerate() {
@@ -509,19 +583,26 @@ pub fn coincident_pairs(
     positions: &[[f64; 3]],
     tolerance: f64,
 ) -> Vec<(u32, u32)> {
-    let mut ids: Vec<u32> = registry.vertices().iter().map(|v| v.id).collect();
-    ids.sort_unstable();
+    // Input ids in increasing order, found through the id → slot map (no sort).
+    let ids = (0..positions.len() as u32).filter(|&v| registry.vertex(v).is_some());
     let mut pairs = Vec::new();
     if tolerance <= 0.0 {
-        // Sized up front: rehashing a table of millions of vertices doubles what it touches.
-        let mut seen: FxHashMap<[u64; 3], u32> = FxHashMap::with_capacity(ids.len());
+        // +0.0 folds -0.0 into 0.0: the same place.
+        let key = |v: u32| positions[v as usize].map(|c| (c + 0.0).to_bits());
+        let state = foldhash::fast::FixedState::default();
+        // The table holds vertex ids only (4 bytes a slot, keys read from `positions`): a
+        // table of millions of full keys costs more in cache misses and fresh pages than
+        // the hashing itself. Sized up front: rehashing doubles what it touches.
+        let mut seen: hashbrown::HashTable<u32> =
+            hashbrown::HashTable::with_capacity(registry.vertices().len());
         for v in ids {
-            // +0.0 folds -0.0 into 0.0: the same place.
-            let key = positions[v as usize].map(|c| (c + 0.0).to_bits());
-            if let Some(&u) = seen.get(&key) {
-                pairs.push((v, u));
-            } else {
-                seen.insert(key, v);
+            let k = key(v);
+            let hash = state.hash_one(k);
+            match seen.find(hash, |&u| key(u) == k) {
+                Some(&u) => pairs.push((v, u)),
+                None => {
+                    seen.insert_unique(hash, v, |&u| state.hash_one(key(u)));
+                }
             }
         }
         return pairs;
