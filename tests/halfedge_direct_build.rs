@@ -63,8 +63,15 @@ fn same_structure(name: &str, mesh: &PolygonMesh) {
         ..EatOptions::default()
     };
     let one_fan_each = scan(mesh, &options).unwrap().counts.non_manifold_vertices == 0;
-    assert_eq!(direct.built_directly, one_fan_each, "{name}: built directly");
-    assert_eq!(direct.face_status.len(), mesh.face_count(), "{name}: statuses");
+    assert_eq!(
+        direct.built_directly, one_fan_each,
+        "{name}: built directly"
+    );
+    assert_eq!(
+        direct.face_status.len(),
+        mesh.face_count(),
+        "{name}: statuses"
+    );
     assert!(direct.refused().next().is_none(), "{name}: refusals");
     let (reference, status) = by_add_face(mesh);
     assert!(

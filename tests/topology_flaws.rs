@@ -272,7 +272,11 @@ fn loops_joined_at_a_non_manifold_edge_are_not_holes_to_fill() {
     assert_eq!(edges.len(), 1);
     let (ends, on_edge) = (&edges[0].vertices, &edges[0].faces);
     assert_eq!(on_edge.len(), 100);
-    assert_eq!(edges[0].fix_verified, Some(true), "the separation is checked");
+    assert_eq!(
+        edges[0].fix_verified,
+        Some(true),
+        "the separation is checked"
+    );
     let loops = flaws_of(&report, FlawKind::Hole);
     assert_eq!(loops.len(), 50);
     for l in loops {

@@ -4,6 +4,11 @@
 //! and Q a regularization of the parameterization, by Newton's method with the exact
 //! Hessian and Levenberg–Marquardt safeguards (§5).
 //!
+//! The folder's rooms: `surface/` (how the surface depends on the control vertices),
+//! `functional/` (F and its derivatives), `solvers/` (its minimizers), `preparation/`
+//! (what a mesh needs first), `generators/` (test shapes). The public API is re-exported
+//! here:
+//!
 //! - [`tubes`]: the paper's junctions of tubes; [`refine_surface`]: the author's refinement
 //!   (Catmull–Clark losing the boundary ring each level), which gives his sizes.
 //! - [`prepare`]: refine until the paper's conditions hold (§2); χ checked.
@@ -18,53 +23,36 @@
 //!   overlaps, block iterations, global Newton by additive-Schwarz preconditioned CG),
 //!   chosen by [`FairOptions::blocks`].
 
-mod block_method;
-mod blocks;
-mod cholesky;
-mod curvature_map;
-mod disc;
 mod functional;
-mod levels;
-mod optimize;
-mod pcg;
-mod prepare;
-mod q_density;
-mod quadrature;
-mod representation;
-mod s_density;
-mod schwarz;
-mod selection;
-mod statistics;
-mod sub_representation;
-mod surface_refine;
-mod tangent;
-mod topology;
-mod tubes;
+mod generators;
+mod preparation;
+mod solvers;
+mod surface;
 
-pub use block_method::{block_newton, BlockOptions, BlockPhase, BlockReport};
-pub use blocks::voronoi_blocks;
-pub use cholesky::{Factor, Factorizer};
-pub use curvature_map::curvature_samples;
-pub use disc::sector_disc;
-pub use functional::{BlockHessian, Functional, HessianKind, Terms};
-pub use levels::{optimize_levels, optimize_levels_observed, CoarseToFine, LevelReport};
-pub use optimize::{
+pub use functional::evaluation::{BlockHessian, Functional, HessianKind, Terms};
+pub use functional::statistics::{shape_change, ShapeChange};
+pub use generators::disc::sector_disc;
+pub use generators::tubes::{tubes, MAX_TUBES};
+pub use preparation::prepare::{fixed_vertices, prepare, MAX_FAIR_VALENCE};
+pub use preparation::selection::{read_fixed, VCG_SELECTED};
+pub use preparation::surface_refine::{drop_boundary_ring, refine_surface};
+pub use preparation::topology::{condition_violation, MeshTopology};
+pub use solvers::block_method::{block_newton, BlockOptions, BlockPhase, BlockReport};
+pub use solvers::blocks::voronoi_blocks;
+pub use solvers::cholesky::{Factor, Factorizer};
+pub use solvers::levels::{optimize_levels, optimize_levels_observed, CoarseToFine, LevelReport};
+pub use solvers::newton::{
     newton, newton_observed, Iteration, LmMatrix, NewtonOptions, NewtonReport, StepKind,
 };
-pub use pcg::{multiply, pcg, CgOutcome, CgStop};
-pub use prepare::{fixed_vertices, prepare, MAX_FAIR_VALENCE};
-pub use quadrature::{gauss_legendre, MAX_NODES};
-pub use representation::{
+pub use solvers::pcg::{multiply, pcg, CgOutcome, CgStop};
+pub use solvers::schwarz::Schwarz;
+pub use surface::curvature_map::curvature_samples;
+pub use surface::quadrature::{gauss_legendre, MAX_NODES};
+pub use surface::representation::{
     EndCaps, PatchRepresentation, QDomain, QuadraturePoint, Representation, RepresentationOptions,
     DEFAULT_C_SPECIAL, DERIVATIVES,
 };
-pub use schwarz::Schwarz;
-pub use selection::{read_fixed, VCG_SELECTED};
-pub use statistics::{shape_change, ShapeChange};
-pub use sub_representation::SubRepresentation;
-pub use surface_refine::{drop_boundary_ring, refine_surface};
-pub use topology::{condition_violation, MeshTopology};
-pub use tubes::{tubes, MAX_TUBES};
+pub use surface::sub_representation::SubRepresentation;
 
 use std::ops::ControlFlow;
 

@@ -8,7 +8,7 @@
 use std::collections::VecDeque;
 
 use crate::error::{Error, Result};
-use crate::fair::topology::MeshTopology;
+use crate::fair::preparation::topology::MeshTopology;
 
 /// Free vertices of each block (sorted vertex ids), covering every free vertex.
 ///

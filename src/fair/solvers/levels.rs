@@ -21,10 +21,10 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 use crate::error::{Error, Result};
-use crate::fair::optimize::Iteration;
-use crate::fair::prepare::fixed_vertices;
-use crate::fair::surface_refine::refine_surface;
-use crate::fair::topology::MeshTopology;
+use crate::fair::preparation::prepare::fixed_vertices;
+use crate::fair::preparation::surface_refine::refine_surface;
+use crate::fair::preparation::topology::MeshTopology;
+use crate::fair::solvers::newton::Iteration;
 use crate::fair::{optimize_observed, prepare_with_fixed, FairOptions, FairReport};
 use crate::mesh::PolygonMesh;
 

@@ -1,9 +1,9 @@
 //! Q's density (paper eq. 5), ‖P ∇Δp‖²_F with Δp = p_uu + p_vv in the element's parameters
 //! and P = I − n nᵀ the projection on the tangent plane, and its gradient by reverse
-//! accumulation, written over [`Num`] so that [`crate::fair::tangent::Tangent`] gives the
+//! accumulation, written over [`Num`] so that [`crate::fair::functional::tangent::Tangent`] gives the
 //! Hessian (forward-over-reverse).
 
-use crate::fair::tangent::{cross, dot, Num, V};
+use crate::fair::functional::tangent::{cross, dot, Num, V};
 
 /// Q's density from `q = [p_u, p_v, ∂Δp/∂u, ∂Δp/∂v]`: with the normal n = p_u × p_v left
 /// unnormalized, ‖P x‖² = ‖x‖² − (n·x)² / ‖n‖² and ‖n‖² = EG − F².

@@ -30,17 +30,17 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 use crate::error::{Error, Result};
-use crate::fair::blocks::voronoi_blocks;
-use crate::fair::functional::{BlockHessian, Functional, Terms};
-use crate::fair::optimize::{
+use crate::fair::functional::evaluation::{BlockHessian, Functional, Terms};
+use crate::fair::preparation::topology::MeshTopology;
+use crate::fair::solvers::blocks::voronoi_blocks;
+use crate::fair::solvers::newton::{
     decreases, diagonal_scale, finite_start, moved, newton, Iteration, NewtonOptions, NewtonReport,
     StepKind,
 };
-use crate::fair::pcg::{pcg, CgStop};
-use crate::fair::representation::Representation;
-use crate::fair::schwarz::Schwarz;
-use crate::fair::sub_representation::SubRepresentation;
-use crate::fair::topology::MeshTopology;
+use crate::fair::solvers::pcg::{pcg, CgStop};
+use crate::fair::solvers::schwarz::Schwarz;
+use crate::fair::surface::representation::Representation;
+use crate::fair::surface::sub_representation::SubRepresentation;
 use crate::linalg::norm;
 
 /// Options of the block method.

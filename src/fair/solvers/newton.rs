@@ -14,9 +14,9 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 use crate::error::{Error, Result};
-use crate::fair::cholesky::{Factor, Factorizer};
-use crate::fair::functional::{BlockHessian, Functional, HessianKind, Hessians, Terms};
-use crate::fair::representation::Representation;
+use crate::fair::functional::evaluation::{BlockHessian, Functional, HessianKind, Hessians, Terms};
+use crate::fair::solvers::cholesky::{Factor, Factorizer};
+use crate::fair::surface::representation::Representation;
 use crate::linalg::{dot, norm};
 use crate::tolerance::ROUND_OFF;
 

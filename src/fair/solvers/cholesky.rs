@@ -18,7 +18,7 @@ use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Conj, Mat, Side};
 
 use crate::error::{Error, Result, SolverFailure};
-use crate::fair::functional::BlockHessian;
+use crate::fair::functional::evaluation::BlockHessian;
 
 /// The symbolic analysis of a block Hessian's pattern (upper triangle) and the buffers
 /// its numeric factorizations reuse.

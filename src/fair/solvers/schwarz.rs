@@ -8,8 +8,8 @@
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::fair::cholesky::{Factor, Factorizer};
-use crate::fair::functional::BlockHessian;
+use crate::fair::functional::evaluation::BlockHessian;
+use crate::fair::solvers::cholesky::{Factor, Factorizer};
 
 struct Part {
     /// Free indices of the block's vertices, sorted.

@@ -1,12 +1,12 @@
 //! S's density (paper eq. 3), ∇H G⁻¹ ∇Hᵀ √det G, and its gradient with respect to the nine
 //! derivatives by reverse accumulation, written once over [`Num`] so that `f64` gives the
-//! gradient and [`crate::fair::tangent::Tangent`] the Hessian (forward-over-reverse).
+//! gradient and [`crate::fair::functional::tangent::Tangent`] the Hessian (forward-over-reverse).
 //!
 //! ∂H/∂u and ∂H/∂v come from the product rule on H = (E Ñ − 2 F M̃ + G L̃) / (2 W³) (L̃, M̃,
 //! Ñ the second fundamental form times W, W² = EG − F²): along a direction with tangents
 //! (p_u′, …), H′ = (num′ − 1.5 num (W²)′ / W²) / (2 W³).
 
-use crate::fair::tangent::{cross, dot, Num, V};
+use crate::fair::functional::tangent::{cross, dot, Num, V};
 
 #[inline(always)]
 fn add<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {

@@ -6,7 +6,7 @@
 
 use rayon::prelude::*;
 
-use crate::fair::functional::BlockHessian;
+use crate::fair::functional::evaluation::BlockHessian;
 use crate::linalg::dot;
 
 /// Why [`pcg`] stopped.

@@ -3,7 +3,7 @@
 //! of fixed vertices.
 
 use crate::error::{Error, Result};
-use crate::fair::topology::{condition_violation, MeshTopology};
+use crate::fair::preparation::topology::{condition_violation, MeshTopology};
 use crate::mesh::PolygonMesh;
 use crate::subdiv::{refine_uniform, SubdivOptions};
 

@@ -2,7 +2,7 @@
 //! forward-mode dual number over the derivative coordinates of a quadrature point.
 //!
 //! The per-point Hessian is the Jacobian of the reverse-accumulated gradient
-//! ([`crate::fair::s_density::s_density_gradient`]) evaluated over [`Tangent`]s
+//! ([`crate::fair::functional::s_density::s_density_gradient`]) evaluated over [`Tangent`]s
 //! (forward-over-reverse): every operation costs O(27) instead of the O(27²) of a
 //! second-order dual, and a value is 224 bytes instead of 3.2 kB.
 

@@ -5,7 +5,7 @@
 //! [`Representation`] without touching the functional or the optimizer.
 
 use crate::error::{Error, Result};
-use crate::fair::quadrature::gauss_legendre;
+use crate::fair::surface::quadrature::gauss_legendre;
 use crate::limits::MemoryBudget;
 use crate::mesh::PolygonMesh;
 use crate::subdiv::{cubic_basis, limit_surface, PatchOptions, PatchSurface, SubdivOptions};

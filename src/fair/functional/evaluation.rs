@@ -21,12 +21,12 @@ use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatRef, Par};
 use rayon::prelude::*;
 
-use crate::fair::q_density::{q_density, q_density_gradient, q_residual};
-use crate::fair::representation::{QuadraturePoint, Representation, DERIVATIVES};
-use crate::fair::s_density::{
+use crate::fair::functional::q_density::{q_density, q_density_gradient, q_residual};
+use crate::fair::functional::s_density::{
     mean_curvature, s_density, s_density_gradient, s_density_gradient_residual, s_residual,
 };
-use crate::fair::tangent::{cross, dot, Tangent};
+use crate::fair::functional::tangent::{cross, dot, Tangent};
+use crate::fair::surface::representation::{QuadraturePoint, Representation, DERIVATIVES};
 
 const VARS: usize = 3 * DERIVATIVES;
 

@@ -4,7 +4,7 @@
 //! not meet the block), so its gradient and Hessian over the block are exact while costing
 //! only the block's patches.
 
-use crate::fair::representation::{QuadraturePoint, Representation};
+use crate::fair::surface::representation::{QuadraturePoint, Representation};
 
 /// A filtered copy of a [`Representation`]'s quadrature points.
 pub struct SubRepresentation {
