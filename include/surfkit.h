@@ -326,6 +326,10 @@ typedef struct SurfkitFairOptions {
    */
   double c_special;
   /*
+   C in F = S + C·c·Q (1: the paper's text; the author's program: 0.01).
+   */
+  double regularization;
+  /*
    `fixed_count` more fixed vertices (ids of the input mesh).
    */
   const uint32_t *fixed;
@@ -351,9 +355,10 @@ typedef struct SurfkitFairSummary {
   uintptr_t vertices;
   uintptr_t free_vertices;
   /*
-   c of eq. 4.
+   c of eq. 4 (|E|²/D⁴); Q's weight in F is regularization · c.
    */
   double c;
+  double regularization;
   double f_before;
   double s_before;
   double q_before;

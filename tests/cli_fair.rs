@@ -443,3 +443,48 @@ fn cli_fair_levels_write_the_finest_level() {
     let fixed = common::assert_faces_and_boundary_rings_kept(&fine, &out);
     assert!(fixed.iter().any(|&f| !f));
 }
+
+#[test]
+fn fair_exit_status_says_whether_it_converged() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("junction.obj");
+    write(&input, &small_junction(), &Default::default()).unwrap();
+    let run = |extra: &[&str], out: &str| {
+        let out = dir.path().join(out);
+        let o = surfkit()
+            .arg("fair")
+            .arg(&input)
+            .arg("-o")
+            .arg(&out)
+            .args(["--quiet", "--json"])
+            .args(extra)
+            .output()
+            .unwrap();
+        let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        (o, report, out)
+    };
+    let (done, report, _) = run(&[], "done.obj");
+    assert_eq!(done.status.code(), Some(0));
+    assert_eq!(report["report"]["newton"]["converged"], true);
+    // Two iterations do not reach 1e-8 of the initial gradient on this junction: the
+    // positions reached are written, and the status says the goal was not met.
+    let (short, report, out) = run(&["--max-iterations", "2"], "short.obj");
+    assert_eq!(short.status.code(), Some(3));
+    assert_eq!(report["report"]["newton"]["converged"], false);
+    assert_eq!(
+        report["report"]["newton"]["iterations"]
+            .as_array()
+            .unwrap()
+            .len(),
+        2
+    );
+    let said = String::from_utf8_lossy(&short.stderr);
+    assert!(
+        said.contains("not converged") && said.contains("after 2 iterations"),
+        "{said}"
+    );
+    assert_eq!(
+        read(&out).unwrap().vertex_count(),
+        small_junction().vertex_count()
+    );
+}

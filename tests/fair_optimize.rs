@@ -134,10 +134,13 @@ fn fair_optimize_paper_steps_and_default_steps_reach_the_same_minimum() {
     // the exact Hessian, eq. 8–9) and the default ones (halved Newton steps first, the
     // trajectory over the Gauss–Newton part) take different paths (figure-10 junction,
     // 1677 vertices, both starting with Levenberg–Marquardt steps) to the same minimizer.
+    // Under the paper's weight C = 1 the default path also takes halved Newton steps (with
+    // C = 0.01 it goes from Levenberg–Marquardt straight to full Newton steps here).
     let mesh = tubes(5, 8, 2).unwrap();
     let run = |lm_matrix, newton_halvings| {
         let mut options = FairOptions {
             max_refinements: 0,
+            regularization: 1.0,
             ..FairOptions::default()
         };
         options.newton.lm_matrix = lm_matrix;
@@ -245,4 +248,66 @@ fn fair_optimize_cancelled_by_the_observer_stops_where_an_iteration_limit_would(
     assert!(!limited_report.newton.cancelled);
     assert_eq!(limited_report.newton.iterations.len(), 2);
     assert_eq!(cancelled.positions, limited.positions);
+}
+
+#[test]
+fn fair_optimize_regularization_weights_q_by_c_times_c() {
+    // F = S + C·c·Q: the optimum under C = 0.01 (the author's program) is a stationary point
+    // of the functional built here with weight 0.01·c, and lets S fall below C = 1's.
+    let mesh = tubes(3, 4, 3).unwrap();
+    let run = |regularization| {
+        optimize(
+            &mesh,
+            &FairOptions {
+                max_refinements: 0,
+                regularization,
+                ..FairOptions::default()
+            },
+        )
+        .unwrap()
+    };
+    let (_, paper) = run(1.0);
+    let (faired, author) = run(0.01);
+    assert!(paper.newton.converged && author.newton.converged);
+    assert_eq!((paper.regularization, author.regularization), (1.0, 0.01));
+    assert_eq!(paper.c, author.c, "c = |E|²/D⁴ does not depend on C");
+    let t = author.final_terms;
+    assert!((t.f - (t.s + 0.01 * author.c * t.q)).abs() <= 1e-12 * t.f);
+    assert!(
+        t.s < paper.final_terms.s,
+        "S {} vs {}",
+        t.s,
+        paper.final_terms.s
+    );
+
+    let topo = MeshTopology::new(&mesh).unwrap();
+    let fixed = fixed_vertices(&topo, 3, &[]).unwrap();
+    let special = topo.special_flags();
+    let options = RepresentationOptions::default();
+    let rep = PatchRepresentation::new(&mesh, &topo.boundary, &special, &options).unwrap();
+    let functional = Functional::new(&rep, &fixed, 0.01 * author.c);
+    let norm = |g: &[f64]| g.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let (start, g0) = functional.gradient(&mesh.positions);
+    let (end, g) = functional.gradient(&faired.positions);
+    assert!((start.f - author.newton.initial.f).abs() <= 1e-12 * start.f);
+    assert!((end.f - t.f).abs() <= 1e-12 * t.f);
+    assert!(
+        norm(&g) <= 1e-8 * norm(&g0),
+        "‖g‖ {} of {}",
+        norm(&g),
+        norm(&g0)
+    );
+
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let err = optimize(
+            &mesh,
+            &FairOptions {
+                regularization: bad,
+                ..FairOptions::default()
+            },
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("regularization"), "{err}");
+    }
 }

@@ -53,6 +53,8 @@ pub struct SurfkitFairOptions {
     pub nodes: u32,
     /// Cᵢ of the faces at special vertices (eq. 5).
     pub c_special: f64,
+    /// C in F = S + C·c·Q (1: the paper's text; the author's program: 0.01).
+    pub regularization: f64,
     /// `fixed_count` more fixed vertices (ids of the input mesh).
     pub fixed: *const u32,
     pub fixed_count: usize,
@@ -76,6 +78,7 @@ pub unsafe extern "C" fn surfkit_fair_options_default(options: *mut SurfkitFairO
             isolation: d.representation.isolation,
             nodes: d.representation.nodes as u32,
             c_special: d.representation.c_special,
+            regularization: d.regularization,
             fixed: std::ptr::null(),
             fixed_count: 0,
             callback: None,
@@ -99,8 +102,9 @@ pub struct SurfkitFairSummary {
     pub refinements: u32,
     pub vertices: usize,
     pub free_vertices: usize,
-    /// c of eq. 4.
+    /// c of eq. 4 (|E|²/D⁴); Q's weight in F is regularization · c.
     pub c: f64,
+    pub regularization: f64,
     pub f_before: f64,
     pub s_before: f64,
     pub q_before: f64,
@@ -130,8 +134,15 @@ unsafe fn fair_options(o: &SurfkitFairOptions) -> Result<FairOptions, Failure> {
             o.c_special
         )));
     }
+    if !(o.regularization > 0.0 && o.regularization.is_finite()) {
+        return Err(Failure::invalid(format!(
+            "regularization {} must be a finite number > 0",
+            o.regularization
+        )));
+    }
     let mut options = FairOptions {
         boundary_rings: o.boundary_rings,
+        regularization: o.regularization,
         max_refinements: o.max_refinements,
         fixed: slice(o.fixed, o.fixed_count, "fixed")?.to_vec(),
         ..FairOptions::default()
@@ -237,6 +248,7 @@ pub unsafe extern "C" fn surfkit_fair_report_summary(
             vertices: r.vertices,
             free_vertices: r.free_vertices,
             c: r.c,
+            regularization: r.regularization,
             f_before: before.f,
             s_before: before.s,
             q_before: before.q,

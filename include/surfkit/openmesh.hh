@@ -542,6 +542,8 @@ struct FairOptions {
   unsigned isolation = 0;
   unsigned nodes = 0;
   double c_special = 0;
+  /// C in F = S + C·c·Q (1: the paper's text; the author's program: 0.01).
+  double regularization = 0;
   /// More fixed vertices; also fixed: locked vertices (mesh.status(vh).locked()) and those
   /// whose bool vertex property named `fixed_property` is true.
   std::vector<OpenMesh::VertexHandle> fixed;
@@ -612,6 +614,7 @@ FairReport fair(Mesh& mesh, const FairOptions& options = FairOptions{}) {
   if (options.isolation != 0) o.isolation = options.isolation;
   if (options.nodes != 0) o.nodes = options.nodes;
   if (options.c_special != 0) o.c_special = options.c_special;
+  if (options.regularization != 0) o.regularization = options.regularization;
   o.fixed = fixed.data();
   o.fixed_count = fixed.size();
   detail::ProgressBridge bridge{&options.progress, nullptr};

@@ -15,7 +15,7 @@ use crate::mesh::Mesh;
 /// return stops the run (the positions reached are returned, the report says `cancelled`),
 /// an exception stops it and is raised once the run has ended.
 #[pyfunction]
-#[pyo3(signature = (mesh, *, fixed, boundary_rings, max_refinements, relative_gradient, max_iterations, isolation, nodes, c_special, callback))]
+#[pyo3(signature = (mesh, *, fixed, boundary_rings, max_refinements, relative_gradient, max_iterations, isolation, nodes, c_special, regularization, callback))]
 #[allow(clippy::too_many_arguments)]
 // Each argument is a keyword argument of the Python function.
 pub fn fair_json(
@@ -29,6 +29,7 @@ pub fn fair_json(
     isolation: Option<u32>,
     nodes: Option<usize>,
     c_special: Option<f64>,
+    regularization: Option<f64>,
     callback: Option<Py<PyAny>>,
 ) -> PyResult<(Mesh, String)> {
     let input = &mesh.mesh;
@@ -62,6 +63,14 @@ pub fn fair_json(
             )));
         }
         options.representation.c_special = c;
+    }
+    if let Some(c) = regularization {
+        if !(c > 0.0 && c.is_finite()) {
+            return Err(InvalidInput::new_err(format!(
+                "regularization {c} must be a finite number > 0"
+            )));
+        }
+        options.regularization = c;
     }
     if let Some(r) = relative_gradient {
         if !(r > 0.0 && r < 1.0) {

@@ -348,9 +348,11 @@ def fair(
     isolation: int | None = None,
     nodes: int | None = None,
     c_special: float | None = None,
+    regularization: float | None = None,
 ) -> tuple[Mesh, dict[str, Any]]:
     """Kiciak's shape optimization of a Catmull–Clark control mesh, as ``surfkit fair``
-    (options left at None keep its defaults).
+    (options left at None keep its defaults). ``regularization`` is C in
+    F = S + C·c·Q (``surfkit fair --regularization``).
 
     Returns the optimized mesh (the input's topology and vertex order unless the method had
     to refine it, see ``report["refinements"]``) and the report, whose ``log`` lists every
@@ -371,6 +373,7 @@ def fair(
         isolation=isolation,
         nodes=nodes,
         c_special=c_special,
+        regularization=regularization,
         callback=callback,
     )
     report = json.loads(text)

@@ -45,6 +45,23 @@ def test_fair_is_the_cli_fair(tubes: Path, cli: Path, tmp_path: Path):
         assert seen["step"] == logged["step"]
 
 
+def test_regularization_is_the_cli_regularization(tubes: Path, cli: Path, tmp_path: Path):
+    run = subprocess.run(
+        [cli, "fair", tubes, "-o", tmp_path / "c.ply", "--json", "--regularization", "0.01"],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    theirs = json.loads(run.stdout)["report"]
+    _, report = surfkit.fair(surfkit.read_mesh(tubes), regularization=0.01)
+    assert report["regularization"] == theirs["regularization"] == 0.01
+    for term in ("f", "s", "q"):
+        assert report["final_terms"][term] == pytest.approx(theirs["final_terms"][term], rel=1e-9)
+    # F = S + C·c·Q, with c the paper's |E|²/D⁴.
+    t = report["final_terms"]
+    assert t["f"] == pytest.approx(t["s"] + 0.01 * report["c"] * t["q"], rel=1e-12)
+
+
 def test_the_callback_stops_the_run(tubes: Path):
     seen: list[float] = []
 
@@ -73,6 +90,9 @@ def test_bad_fair_options_are_refused(tubes: Path):
         surfkit.fair(mesh, fixed=[100000])
     with pytest.raises(surfkit.InvalidInput, match="relative_gradient"):
         surfkit.fair(mesh, relative_gradient=2.0)
+    for bad in (0.0, -1.0, float("nan")):
+        with pytest.raises(surfkit.InvalidInput, match="regularization"):
+            surfkit.fair(mesh, regularization=bad)
     closed = surfkit.read_mesh(Path(__file__).parents[2] / "fixtures/meshes/catmark_torus.obj")
     with pytest.raises(surfkit.SurfkitError):
         surfkit.fair(closed)

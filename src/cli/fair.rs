@@ -7,11 +7,15 @@ use std::path::{Path, PathBuf};
 
 use indicatif::{ProgressBar, ProgressStyle};
 
+use std::process::ExitCode;
+
 use crate::error::Error;
+
 use crate::fair::{
     curvature_samples, optimize_levels_observed, read_fixed, refine_surface, shape_change, tubes,
-    BlockOptions, EndCaps, FairOptions, FairReport, Iteration, LevelReport, LmMatrix, QDomain,
-    RepresentationOptions, ShapeChange, DEFAULT_C_SPECIAL,
+    BlockOptions, EndCaps, FairOptions, FairReport, Iteration, LevelReport, LmMatrix,
+    NewtonOptions, QDomain, RepresentationOptions, ShapeChange, DEFAULT_C_SPECIAL,
+    DEFAULT_REGULARIZATION,
 };
 use crate::limits::MemoryBudget;
 use crate::mesh::io::{read, write, WriteOptions};
@@ -43,6 +47,10 @@ pub struct FairArgs {
     /// paper suggests: at 1 the regularization pulls the mesh toward the special vertices.
     #[arg(long, default_value_t = DEFAULT_C_SPECIAL, value_parser = super::positive_finite)]
     pub c_special: f64,
+    /// C in F = S + C·c·Q (c = |E|²/D⁴, paper §4): 1 is the paper's text; the default is
+    /// the author's test program's (at 1, Q outweighs S on his finer meshes: S rises).
+    #[arg(long, default_value_t = DEFAULT_REGULARIZATION, value_parser = super::positive_finite)]
+    pub regularization: f64,
     /// Integrate S over the end caps at extraordinary vertices too.
     #[arg(long)]
     pub end_caps_in_s: bool,
@@ -53,6 +61,10 @@ pub struct FairArgs {
     /// Stop when the gradient norm falls below this fraction of its initial value (0 < t < 1).
     #[arg(long, default_value_t = 1e-8, value_parser = super::open_unit_interval)]
     pub tolerance: f64,
+    /// Most Newton / Levenberg–Marquardt iterations (per level); a run stopped by it
+    /// exits with status 3.
+    #[arg(long, default_value_t = NewtonOptions::default().max_iterations)]
+    pub max_iterations: usize,
     /// Limit samples of the optimized surface (.ply: mean curvature as vertex quality).
     #[arg(long)]
     pub samples: Option<PathBuf>,
@@ -229,9 +241,11 @@ fn options(args: &FairArgs, memory: MemoryBudget) -> FairOptions {
             ..RepresentationOptions::default()
         },
         max_refinements: args.max_refinements,
+        regularization: args.regularization,
         ..FairOptions::default()
     };
     options.newton.relative_gradient = args.tolerance;
+    options.newton.max_iterations = args.max_iterations;
     if args.lm_exact_hessian {
         options.newton.lm_matrix = LmMatrix::Exact;
     }
@@ -280,8 +294,13 @@ pub(super) fn optimize_with_progress(
     let seconds = start.elapsed().as_secs_f64();
     progress.finish();
     let run = result?;
-    let c = run.levels.last().expect("level 0 is always there").report.c;
-    let change = shape_change(&run.raw, &run.optimized, options, c)?;
+    let last = &run.levels.last().expect("level 0 is always there").report;
+    let change = shape_change(
+        &run.raw,
+        &run.optimized,
+        options,
+        last.regularization * last.c,
+    )?;
     Ok(Optimized {
         before: run.raw,
         after: run.optimized,
@@ -291,7 +310,9 @@ pub(super) fn optimize_with_progress(
     })
 }
 
-pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<()> {
+/// Exit status 3 (as `eat`'s failed test) when the run stopped short: not converged and
+/// not at the gradient's round-off floor (which is as far as any method gets).
+pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
     super::check_folder("--figures", args.figures.as_deref())?;
     super::check_paths(
         &[Some(&args.input), args.fixed.as_deref()],
@@ -387,7 +408,20 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<()> {
             println!("  {}  (curvature map)", path.display());
         }
     }
-    Ok(())
+    let n = &report.newton;
+    if n.converged || n.stalled {
+        return Ok(ExitCode::SUCCESS);
+    }
+    eprintln!(
+        "surfkit fair: not converged{}: |g|/|g0| = {:.3e} after {} iterations, above \
+         --tolerance {:.1e}; {} holds the positions reached",
+        n.status_note(),
+        report.final_gradient_norm / n.initial_gradient_norm,
+        n.iterations.len(),
+        args.tolerance,
+        args.output.display()
+    );
+    Ok(ExitCode::from(super::eat::TEST_FAILED))
 }
 
 #[derive(clap::Args, Debug)]

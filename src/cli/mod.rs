@@ -126,7 +126,7 @@ pub fn main() -> ExitCode {
         Command::Fill(a) => fill::run(a).map(|()| ExitCode::SUCCESS),
         Command::Fit(a) => fit::run(a).map(|()| ExitCode::SUCCESS),
         Command::Paper(a) => paper::run(a).map(|()| ExitCode::SUCCESS),
-        Command::Fair(a) => fair::run(a, budget).map(|()| ExitCode::SUCCESS),
+        Command::Fair(a) => fair::run(a, budget),
         Command::Gen(Generate::Tubes(a)) => fair::run_tubes(a).map(|()| ExitCode::SUCCESS),
     };
     match result {
