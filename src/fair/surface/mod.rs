@@ -3,6 +3,7 @@
 //! of control vertices (paper eq. 1) — and the samples that show it.
 
 pub(crate) mod curvature_map;
+pub(crate) mod g2;
 pub(crate) mod quadrature;
 pub(crate) mod representation;
 pub(crate) mod sub_representation;

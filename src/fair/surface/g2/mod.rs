@@ -1,0 +1,6 @@
+//! Kiciak's curvature-continuous surface (paper §3): bicubic B-spline patches for ordinary
+//! elements and, for each special element (the Sabin net round a vertex of valence k ≠ 4),
+//! k polynomial patches of degree (9, 9) over a planar domain Ω_k. Built so far: the domain
+//! net and Ω_k's boundary and area ([`domain_net`]).
+
+pub(crate) mod domain_net;
