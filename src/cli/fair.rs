@@ -319,6 +319,13 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
         &[Some(&args.output), args.samples.as_deref()],
     )?;
     let mesh = read(&args.input)?;
+    if mesh.sharp_features.is_some() {
+        eprintln!(
+            "surfkit: note: {}'s crease/corner tags are ignored: Kiciak's surface has no sharp \
+             features",
+            args.input.display()
+        );
+    }
     let mut options = options(args, memory);
     if let Some(path) = &args.fixed {
         options.fixed = read_fixed(path, mesh.vertex_count())?;

@@ -36,6 +36,8 @@ pub struct LimitArgs {
     /// Boundary rule.
     #[arg(long, value_enum, default_value_t = BoundaryArg::EdgesAndCorners)]
     pub boundary: BoundaryArg,
+    #[command(flatten)]
+    pub sharp: super::sharp_args::SharpArgs,
     /// Where to write the PNG picture of the curvature map (default: the output's name
     /// with `.png`).
     #[arg(long)]
@@ -67,8 +69,12 @@ pub fn run(args: &LimitArgs, memory: MemoryBudget) -> crate::Result<()> {
         &[Some(&args.output), args.png.as_deref()],
     )?;
     let mesh = read(&args.input)?;
+    let (creases, corners, creasing) = super::sharp_args::sharp_features(&mesh, &args.sharp)?;
     let options = SubdivOptions {
         boundary: args.boundary.into(),
+        creases,
+        corners,
+        creasing,
         ..Default::default()
     };
     let surface = limit_surface(

@@ -27,6 +27,7 @@ mod info;
 mod limit;
 mod paper;
 mod repair;
+mod sharp_args;
 mod subdivide;
 
 use std::path::{Path, PathBuf};

@@ -78,6 +78,8 @@ pub struct SubdivideArgs {
     /// How UVs are refined.
     #[arg(long, value_enum, default_value_t = UvArg::Linear)]
     pub uv: UvArg,
+    #[command(flatten)]
+    pub sharp: super::sharp_args::SharpArgs,
     /// Print a JSON report.
     #[arg(long)]
     pub json: bool,
@@ -87,9 +89,13 @@ pub struct SubdivideArgs {
 pub fn run(args: &SubdivideArgs) -> crate::Result<()> {
     super::check_paths(&[Some(&args.input)], &[Some(&args.output)])?;
     let mesh = read(&args.input)?;
+    let (creases, corners, creasing) = super::sharp_args::sharp_features(&mesh, &args.sharp)?;
     let options = SubdivOptions {
         boundary: args.boundary.into(),
         face_varying: args.uv.into(),
+        creases,
+        corners,
+        creasing,
         ..Default::default()
     };
     let refined = refine_uniform(&mesh, args.levels, &options)?;

@@ -4,6 +4,8 @@
 pub mod io;
 pub mod planar;
 mod polygon_mesh;
+mod sharp_features;
 pub mod vector;
 
 pub use polygon_mesh::{CornerUvs, FaceLabels, PolygonMesh, NO_LABEL};
+pub use sharp_features::SharpFeatures;

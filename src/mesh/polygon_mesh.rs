@@ -1,5 +1,6 @@
 //! `PolygonMesh`: the polygon soup every surfkit capability reads and writes.
 
+use super::SharpFeatures;
 use crate::error::{Error, Result};
 
 /// Marks a face that carries no object or group label.
@@ -65,6 +66,8 @@ pub struct PolygonMesh {
     pub quality: Option<Vec<f64>>,
     /// Per-vertex RGBA colour.
     pub colors: Option<Vec<[u8; 4]>>,
+    /// OBJ `t crease` / `t corner` / `t creasemethod` tags (subdivision sharpness).
+    pub sharp_features: Option<SharpFeatures>,
 }
 
 impl Default for PolygonMesh {
@@ -78,6 +81,7 @@ impl Default for PolygonMesh {
             uvs: None,
             quality: None,
             colors: None,
+            sharp_features: None,
         }
     }
 }

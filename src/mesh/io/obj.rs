@@ -14,6 +14,7 @@ use super::face_check::{degeneracy_as_written, out_of_range};
 use super::text::{parse_f64, parse_i64, show, tokens, write_f64, Lines};
 use super::ReadOptions;
 use crate::error::{Error, Location, Result};
+use crate::mesh::SharpFeatures;
 use crate::mesh::{CornerUvs, FaceLabels, PolygonMesh, NO_LABEL};
 
 /// What the reader accumulates while walking the lines.
@@ -33,6 +34,8 @@ struct ObjBuilder {
     /// the final vertex count, since OBJ allows `v` records after the faces that use them.
     face_lines: Vec<usize>,
     raw_indices: Vec<i64>,
+    /// Vertex ids named by `t crease` / `t corner` tags, with their line (checked at the end).
+    tag_vertices: Vec<(i64, usize)>,
 }
 
 pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<PolygonMesh> {
@@ -113,6 +116,7 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                 }
             }
             b"f" => read_face(&mut b, toks, number).map_err(|m| err(number, why(line, m)))?,
+            b"t" => read_tag(&mut b, toks, number).map_err(|m| err(number, why(line, m)))?,
             b"o" | b"g" => {
                 // The name is the rest of the record after the keyword.
                 let name = std::str::from_utf8(line.trim_ascii_start()[1..].trim_ascii())
@@ -299,8 +303,130 @@ fn read_face<'a>(
     Ok(())
 }
 
+/// A tag record (OpenSubdiv's shapes: `t name nints/nfloats/nstrings ints floats
+/// strings`). `crease` (pairs of vertices: one sharpness, or one per pair), `corner` (one
+/// sharpness, or one per vertex) and `creasemethod` (`chaikin` or `normal`) are kept; other
+/// tags (`interpolateboundary`, `hole`, …) are not part of surfkit's mesh and are skipped.
+fn read_tag<'a>(
+    b: &mut ObjBuilder,
+    mut toks: impl Iterator<Item = &'a [u8]>,
+    line: usize,
+) -> std::result::Result<(), String> {
+    let name = toks.next().ok_or("a tag needs a name")?;
+    if !matches!(name, b"crease" | b"corner" | b"creasemethod") {
+        return Ok(());
+    }
+    let tag = show(name);
+    let counts = toks
+        .next()
+        .ok_or_else(|| format!("tag {tag:?} needs its counts (ints/floats/strings)"))?;
+    let counts: Vec<usize> = counts
+        .split(|&c| c == b'/')
+        .map(|c| std::str::from_utf8(c).ok().and_then(|c| c.parse().ok()))
+        .collect::<Option<Vec<usize>>>()
+        .filter(|c| c.len() == 3)
+        .ok_or_else(|| {
+            format!(
+                "tag {tag:?}: {:?} is not ints/floats/strings counts",
+                show(counts)
+            )
+        })?;
+    let (nints, nfloats, nstrings) = (counts[0], counts[1], counts[2]);
+    let mut ints = Vec::new();
+    let mut floats = Vec::new();
+    let mut strings = Vec::new();
+    for (i, t) in toks.by_ref().enumerate() {
+        if i < nints {
+            ints.push(
+                parse_i64(t)
+                    .ok_or_else(|| format!("tag {tag:?}: {:?} is not an integer", show(t)))?,
+            );
+        } else if i < nints + nfloats {
+            let x = parse_f64(t)
+                .ok_or_else(|| format!("tag {tag:?}: {:?} is not a number", show(t)))?;
+            if !(x.is_finite() && x >= 0.0) {
+                return Err(format!(
+                    "tag {tag:?}: sharpness {x} must be a finite number ≥ 0"
+                ));
+            }
+            floats.push(x as f32);
+        } else if i < nints + nfloats + nstrings {
+            strings.push(show(t));
+        } else {
+            return Err(format!(
+                "tag {tag:?} has more values than its counts {nints}/{nfloats}/{nstrings}"
+            ));
+        }
+    }
+    if ints.len() != nints || floats.len() != nfloats || strings.len() != nstrings {
+        return Err(format!(
+            "tag {tag:?} has fewer values than its counts {nints}/{nfloats}/{nstrings}"
+        ));
+    }
+    let features = b.mesh.sharp_features.get_or_insert_with(Default::default);
+    match name {
+        b"crease" => {
+            let pairs = nints / 2;
+            if nints < 2 || nints % 2 != 0 || !(nfloats == 1 || nfloats == pairs) {
+                return Err(format!(
+                    "tag \"crease\" takes pairs of vertices and one sharpness or one per pair, not {nints}/{nfloats}/{nstrings}"
+                ));
+            }
+            for (p, pair) in ints.chunks(2).enumerate() {
+                b.tag_vertices.extend(pair.iter().map(|&v| (v, line)));
+                let s = floats[if nfloats == 1 { 0 } else { p }];
+                features.creases.push(([pair[0] as u32, pair[1] as u32], s));
+            }
+        }
+        b"corner" => {
+            if nints == 0 || !(nfloats == 1 || nfloats == nints) {
+                return Err(format!(
+                    "tag \"corner\" takes vertices and one sharpness or one per vertex, not {nints}/{nfloats}/{nstrings}"
+                ));
+            }
+            for (i, &v) in ints.iter().enumerate() {
+                b.tag_vertices.push((v, line));
+                features
+                    .corners
+                    .push((v as u32, floats[if nfloats == 1 { 0 } else { i }]));
+            }
+        }
+        _ => match strings.as_slice() {
+            [m] if m == "chaikin" => features.chaikin = true,
+            [m] if m == "normal" || m == "uniform" => features.chaikin = false,
+            _ => {
+                return Err(format!(
+                    "tag \"creasemethod\" takes one string, chaikin or normal, not {strings:?}"
+                ))
+            }
+        },
+    }
+    Ok(())
+}
+
 fn finish(mut b: ObjBuilder, path: &Path, options: &ReadOptions) -> Result<PolygonMesh> {
     let n = b.mesh.positions.len();
+    // Tags name vertices 0-based (OpenSubdiv's convention), unlike faces.
+    if let Some(&(v, line)) = b
+        .tag_vertices
+        .iter()
+        .find(|&&(v, _)| v < 0 || v >= n as i64)
+    {
+        return Err(Error::parse(
+            path,
+            Location::Line(line),
+            format!(
+                "tag vertex {v} is out of range: tags count vertices from 0, and there are {n}"
+            ),
+        ));
+    }
+    if b.mesh
+        .sharp_features
+        .as_ref()
+        .is_some_and(SharpFeatures::is_empty)
+    {
+        b.mesh.sharp_features = None;
+    }
     let mut indices = Vec::with_capacity(b.raw_indices.len());
     for (f, w) in b.mesh.face_offsets.windows(2).enumerate() {
         let corners = &b.raw_indices[w[0] as usize..w[1] as usize];
@@ -400,6 +526,17 @@ pub fn write(out: &mut dyn Write, mesh: &PolygonMesh) -> std::io::Result<()> {
             }
         }
         out.write_all(b"\n")?;
+    }
+    if let Some(sharp) = &mesh.sharp_features {
+        for ([a, b], s) in &sharp.creases {
+            writeln!(out, "t crease 2/1/0 {a} {b} {s}")?;
+        }
+        for (v, s) in &sharp.corners {
+            writeln!(out, "t corner 1/1/0 {v} {s}")?;
+        }
+        if sharp.chaikin {
+            writeln!(out, "t creasemethod 0/0/1 chaikin")?;
+        }
     }
     Ok(())
 }
