@@ -290,12 +290,6 @@ fn bad_combinations_are_refused_with_the_reason() {
             [&bfs[..], &["--shape", "positive", "--shape-points", &bp]].concat(),
             format!("{bp}: line 2: expected two finite numbers u,v, got \"0.4;x\""),
         ),
-        // The bowl decreases in u on the hole's left side: increasing-u contradicts the
-        // boundary data.
-        (
-            [&bfs[..], &["--shape", "increasing-u"]].concat(),
-            "contradict the shape conditions (τ∂v/∂x ≥ 0 with τ = +1 on z)".into(),
-        ),
     ];
     for (args, want) in cases {
         let o = run(&args, &csv);
@@ -311,6 +305,28 @@ fn bad_combinations_are_refused_with_the_reason() {
             stderr(&o)
         );
     }
+}
+
+#[test]
+fn shape_conditions_the_data_contradict_exit_with_status_3() {
+    // The bowl decreases in u on the hole's left side: increasing-u contradicts the
+    // boundary data. The command ran; its goal cannot be met: status 3, not 1.
+    let dir = tempfile::tempdir().unwrap();
+    let csv = write_csv(dir.path(), "bowl.csv", &data(&bowl));
+    let o = run(
+        &[
+            "--space",
+            "bfs-c1",
+            "--cells",
+            "6,6",
+            "--hole-from-data",
+            "--shape",
+            "increasing-u",
+        ],
+        &csv,
+    );
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("contradict the shape conditions (τ∂v/∂x ≥ 0 with τ = +1 on z)"));
 }
 
 #[test]

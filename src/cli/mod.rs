@@ -137,8 +137,23 @@ pub fn main() -> ExitCode {
                 (false, Some(input)) => eprintln!("surfkit: error: {}: {e}", input.display()),
                 _ => eprintln!("surfkit: error: {e}"),
             }
-            ExitCode::FAILURE
+            exit_code(&e)
         }
+    }
+}
+
+/// 3 when the command ran but its numerical goal cannot be met with these data (a solver
+/// that did not converge, conditions that contradict each other or the data, a shape
+/// condition violated beyond its tolerance) — as `eat`'s failed test; 1 for every other
+/// error (bad input, I/O, an ill-posed system, limits).
+fn exit_code(e: &crate::Error) -> ExitCode {
+    use crate::error::SolverFailure;
+    match e {
+        crate::Error::Solver {
+            failure: SolverFailure::NotConverged | SolverFailure::Infeasible,
+            ..
+        } => ExitCode::from(eat::TEST_FAILED),
+        _ => ExitCode::FAILURE,
     }
 }
 
