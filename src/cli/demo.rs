@@ -114,7 +114,12 @@ pub fn run(args: &DemoArgs) -> crate::Result<ExitCode> {
     let picture_path = args.out.join("stamp_limit_curvature.png");
     let refined_path = args.out.join("stamp_level2.obj");
     write(&curvature_path, &sampled.mesh, &WriteOptions::default())?;
-    render_png(&sampled.mesh, &picture_path, &RenderOptions::default())?;
+    let options = RenderOptions {
+        title: Some("limit surface of the repaired stamp".to_string()),
+        quantity: Some("mean curvature H".to_string()),
+        ..RenderOptions::default()
+    };
+    render_png(&sampled.mesh, &picture_path, &options)?;
     write(&refined_path, &refined, &WriteOptions::default())?;
     let regular = surface.patches().iter().filter(|p| p.regular).count();
     println!(

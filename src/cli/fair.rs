@@ -153,15 +153,21 @@ pub(super) fn write_results(
             .collect();
         let range = color_range(&all);
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        let options = RenderOptions {
-            range: Some(range),
-            ..RenderOptions::default()
-        };
-        for (name, mesh) in [
-            ("curvature_before.png", &before_samples),
-            ("curvature_after.png", &after_samples),
+        for (name, title, mesh) in [
+            ("curvature_before.png", "before fairing", &before_samples),
+            (
+                "curvature_after.png",
+                "after fairing (same colour scale)",
+                &after_samples,
+            ),
         ] {
             let path = dir.join(name);
+            let options = RenderOptions {
+                range: Some(range),
+                title: Some(title.to_string()),
+                quantity: Some("mean curvature H".to_string()),
+                ..RenderOptions::default()
+            };
             render_png(mesh, &path, &options)?;
             written.figures.push(path);
         }

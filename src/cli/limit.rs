@@ -124,7 +124,12 @@ pub fn run(args: &LimitArgs, memory: MemoryBudget) -> crate::Result<()> {
         .png
         .clone()
         .unwrap_or_else(|| args.output.with_extension("png"));
-    crate::report::render_png(samples, &png, &crate::report::RenderOptions::default())?;
+    let options = crate::report::RenderOptions {
+        title: Some(format!("limit surface of {}", args.input.display())),
+        quantity: Some("mean curvature H".to_string()),
+        ..crate::report::RenderOptions::default()
+    };
+    crate::report::render_png(samples, &png, &options)?;
     let h = samples.quality.as_deref().unwrap_or(&[]);
     let (lo, hi) = h
         .iter()

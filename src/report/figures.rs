@@ -21,7 +21,11 @@ pub fn write_figures(dir: &Path, figures: &[(String, PolygonMesh)]) -> Result<Ve
             dir.join(format!("{name}.png")),
         );
         write(&ply, mesh, &WriteOptions::default())?;
-        render_png(mesh, &png, &RenderOptions::default())?;
+        let options = RenderOptions {
+            title: Some(name.clone()),
+            ..RenderOptions::default()
+        };
+        render_png(mesh, &png, &options)?;
         written.push(ply);
         written.push(png);
     }

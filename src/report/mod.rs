@@ -1,7 +1,10 @@
-//! Reports for people: pictures (PNG) of meshes coloured by per-vertex quality.
+//! Reports for people: pictures (PNG) of meshes coloured by per-vertex quality, with a
+//! title and a colour bar.
 
+mod annotate;
 mod figures;
 mod render;
 
+pub use annotate::{colour_bar_box, colour_of, label};
 pub use figures::write_figures;
 pub use render::{color_range, diverging_color, render_png, render_rgb, RenderOptions, BACKGROUND};

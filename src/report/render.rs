@@ -5,6 +5,7 @@
 use crate::mesh::vector::{cross, dot};
 use std::path::Path;
 
+use super::annotate::{draw_colour_bar, draw_text};
 use crate::error::{Error, Result};
 use crate::mesh::io::write_atomically;
 use crate::mesh::PolygonMesh;
@@ -20,6 +21,10 @@ pub struct RenderOptions {
     /// Azimuth and elevation of the view direction, in degrees.
     pub azimuth: f64,
     pub elevation: f64,
+    /// Drawn at the top left.
+    pub title: Option<String>,
+    /// The quality's name, drawn over the colour bar (a mesh with quality gets a bar).
+    pub quantity: Option<String>,
 }
 
 impl Default for RenderOptions {
@@ -30,6 +35,8 @@ impl Default for RenderOptions {
             range: None,
             azimuth: 35.0,
             elevation: 30.0,
+            title: None,
+            quantity: None,
         }
     }
 }
@@ -194,11 +201,60 @@ pub fn render_png(mesh: &PolygonMesh, path: &Path, options: &RenderOptions) -> R
             "a picture needs a width and height of at least 1".into(),
         ));
     }
-    let image = render_rgb(mesh, options);
+    let mut image = render_rgb(mesh, options);
+    let mut texts: Vec<(&str, String)> = Vec::new();
+    if let Some(title) = &options.title {
+        draw_text(
+            &mut image,
+            options.width as usize,
+            8,
+            8,
+            title,
+            [230, 230, 230],
+        );
+        texts.push(("Title", title.clone()));
+    }
+    let finite = mesh
+        .quality
+        .iter()
+        .flatten()
+        .copied()
+        .filter(|q| q.is_finite());
+    let extent = finite.fold(None, |m: Option<(f64, f64)>, q| {
+        Some(m.map_or((q, q), |(lo, hi)| (lo.min(q), hi.max(q))))
+    });
+    if let (Some(q), Some(extent)) = (&mesh.quality, extent) {
+        let range = options.range.unwrap_or_else(|| color_range(q));
+        let quantity = options.quantity.as_deref().unwrap_or("quality");
+        draw_colour_bar(
+            &mut image,
+            options.width,
+            options.height,
+            extent,
+            range,
+            quantity,
+        );
+        // The labels in full precision, for programs that read the picture.
+        texts.push(("surfkit:quantity", quantity.to_string()));
+        texts.push((
+            "surfkit:colour-bar",
+            format!("{:e} {:e}", extent.0, extent.1),
+        ));
+        texts.push((
+            "surfkit:colour-range",
+            format!("{:e} {:e}", range.0, range.1),
+        ));
+    }
     write_atomically(path, |out| {
         let mut encoder = png::Encoder::new(out, options.width, options.height);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
+        // iTXt (UTF-8): titles name files, quantities use mathematical signs.
+        for (key, text) in &texts {
+            encoder
+                .add_itxt_chunk((*key).to_string(), text.clone())
+                .map_err(std::io::Error::other)?;
+        }
         let mut writer = encoder.write_header().map_err(std::io::Error::other)?;
         writer
             .write_image_data(&image)

@@ -1,0 +1,137 @@
+//! Every PNG surfkit writes explains itself: a title, and a colour bar whose end labels are
+//! the minimum and maximum of the written quality and whose pixels are the colours the
+//! picture gives those values — read back from the PNG (its pixels and its text chunks, the
+//! labels in full precision) and compared with the quality itself.
+
+use std::path::Path;
+use std::process::Command;
+
+use surfkit::mesh::PolygonMesh;
+use surfkit::report::{colour_bar_box, colour_of, render_png, RenderOptions};
+
+struct Picture {
+    width: u32,
+    rgb: Vec<u8>,
+    texts: Vec<(String, String)>,
+}
+
+fn read_png(path: &Path) -> Picture {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut rgb = vec![0; reader.output_buffer_size().unwrap()];
+    let frame = reader.next_frame(&mut rgb).unwrap();
+    assert_eq!(frame.color_type, png::ColorType::Rgb);
+    let texts = reader
+        .info()
+        .utf8_text
+        .iter()
+        .map(|t| (t.keyword.clone(), t.get_text().unwrap()))
+        .collect();
+    Picture {
+        width: frame.width,
+        rgb,
+        texts,
+    }
+}
+
+impl Picture {
+    fn text(&self, key: &str) -> &str {
+        &self.texts.iter().find(|(k, _)| k == key).unwrap().1
+    }
+
+    fn pixel(&self, x: usize, y: usize) -> [u8; 3] {
+        let i = (y * self.width as usize + x) * 3;
+        [self.rgb[i], self.rgb[i + 1], self.rgb[i + 2]]
+    }
+
+    fn pair(&self, key: &str) -> (f64, f64) {
+        let v: Vec<f64> = self.text(key).split(' ').map(|x| x.parse().unwrap()).collect();
+        (v[0], v[1])
+    }
+
+    /// Checks the bar against the written quality `q`: labels = min/max, the top and
+    /// bottom rows the colours of max and min, each row the colour of its value.
+    fn check_bar(&self, q: &[f64], height: u32) {
+        let min = q.iter().copied().fold(f64::INFINITY, f64::min);
+        let max = q.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        assert_eq!(self.pair("surfkit:colour-bar"), (min, max));
+        let range = self.pair("surfkit:colour-range");
+        let (x0, y0, x1, y1) = colour_bar_box(self.width, height);
+        for x in x0..x1 {
+            assert_eq!(self.pixel(x, y0), colour_of(max, range), "top of the bar");
+            assert_eq!(self.pixel(x, y1 - 1), colour_of(min, range), "bottom of the bar");
+        }
+        let rows = y1 - y0;
+        for row in 0..rows {
+            let value = max - (max - min) * row as f64 / (rows - 1) as f64;
+            assert_eq!(self.pixel(x0 + 8, y0 + row), colour_of(value, range), "row {row}");
+        }
+    }
+}
+
+/// A wavy grid whose quality has a few outliers: the colour range (2nd–98th percentile)
+/// lies strictly inside [min, max], so the bar shows saturated ends.
+fn grid_with_quality() -> PolygonMesh {
+    let n = 30;
+    let mut positions = Vec::new();
+    let mut quality = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let (x, y) = (i as f64 / 10.0, j as f64 / 10.0);
+            positions.push([x, y, 0.2 * (3.0 * x).sin()]);
+            quality.push(if (i, j) == (3, 4) { 40.0 } else { (2.0 * x).cos() - y });
+        }
+    }
+    let faces: Vec<[u32; 4]> = (0..n - 1)
+        .flat_map(|j| (0..n - 1).map(move |i| (i, j)))
+        .map(|(i, j)| {
+            let v = |i: usize, j: usize| (j * n + i) as u32;
+            [v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1)]
+        })
+        .collect();
+    let mut mesh = PolygonMesh::from_polygons(positions, &faces);
+    mesh.quality = Some(quality);
+    mesh
+}
+
+#[test]
+fn the_colour_bar_is_labelled_with_the_quality_and_shows_its_colours() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = grid_with_quality();
+    let path = dir.path().join("grid.png");
+    let options = RenderOptions {
+        title: Some("a wavy grid".into()),
+        quantity: Some("cos 2x − y".into()),
+        ..RenderOptions::default()
+    };
+    render_png(&mesh, &path, &options).unwrap();
+    let picture = read_png(&path);
+    assert_eq!(picture.text("Title"), "a wavy grid");
+    assert_eq!(picture.text("surfkit:quantity"), "cos 2x − y");
+    let q = mesh.quality.as_ref().unwrap();
+    picture.check_bar(q, options.height);
+    let (lo, hi) = picture.pair("surfkit:colour-range");
+    let (min, max) = picture.pair("surfkit:colour-bar");
+    assert!(min < lo && hi < max, "the outlier saturates: [{lo}, {hi}] in [{min}, {max}]");
+    // The title's pixels are drawn (text colour at the top left).
+    let lit = (8..8 + 8 * 11).any(|x| (8..16).any(|y| picture.pixel(x, y) == [230, 230, 230]));
+    assert!(lit, "title drawn");
+}
+
+#[test]
+fn limit_writes_a_picture_whose_bar_matches_its_samples() {
+    let dir = tempfile::tempdir().unwrap();
+    let ply = dir.path().join("samples.ply");
+    let input = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/meshes/catmark_torus.obj");
+    let out = Command::new(env!("CARGO_BIN_EXE_surfkit"))
+        .args(["limit", input, "-o"])
+        .arg(&ply)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let samples = surfkit::mesh::io::read(&ply).unwrap();
+    let picture = read_png(&ply.with_extension("png"));
+    assert_eq!(picture.text("surfkit:quantity"), "mean curvature H");
+    assert!(picture.text("Title").contains("catmark_torus.obj"));
+    picture.check_bar(samples.quality.as_ref().unwrap(), RenderOptions::default().height);
+}
