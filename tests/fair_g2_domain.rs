@@ -100,3 +100,63 @@ fn nets_are_rotation_and_mirror_symmetric_with_area_k() {
         );
     }
 }
+
+#[test]
+fn division_curves_meet_their_hermite_data() {
+    use surfkit::fair::{bezier_derivatives, division_curve};
+    use surfkit::subdiv::eval_patch;
+    for k in 3..=16 {
+        let net = DomainNet::new(k);
+        let scale = net
+            .points
+            .iter()
+            .map(|p| p[0].hypot(p[1]))
+            .fold(0.0, f64::max);
+        let close = |a: [f64; 2], b: [f64; 2]| distance(a, b) <= 1e-12 * scale;
+        for spoke in 0..k {
+            let curve = division_curve(&net, spoke);
+            // At the far end: the ring's bicubic patch on face [1, 2] × [0, 1] of the
+            // sector, evaluated whole from its 16 control points, at its corner on the spoke.
+            let mut control = [[0.0; 3]; 16];
+            for (i, row) in control.chunks_mut(4).enumerate() {
+                for (j, p) in row.iter_mut().enumerate() {
+                    let q = net.point(spoke, j as i32, i as i32 - 1);
+                    *p = [q[0], q[1], 0.0];
+                }
+            }
+            let ring = eval_patch(&control, 0.0, 0.0);
+            let flat = |v: [f64; 3]| [v[0], v[1]];
+            let end = bezier_derivatives(&curve, 1.0, 2);
+            assert!(close(end[0], flat(ring.position)), "k {k}: end point");
+            assert!(close(end[1], flat(ring.du)), "k {k}: end tangent");
+            assert!(close(end[2], flat(ring.duu)), "k {k}: end curvature vector");
+            // At the centre: the chord to the end as tangent, derivatives 2–4 zero.
+            let start = bezier_derivatives(&curve, 0.0, 5);
+            let c = net.point(0, 0, 0);
+            assert!(close(start[0], c), "k {k}: centre");
+            let chord = [end[0][0] - c[0], end[0][1] - c[1]];
+            assert!(close(start[1], chord), "k {k}: start tangent");
+            for order in 2..=4 {
+                assert!(close(start[order], [0.0, 0.0]), "k {k}: derivative {order}");
+            }
+            // The k curves are one curve turned by 2π/k.
+            let turned = division_curve(&net, (spoke + 1) % k);
+            let turn = 2.0 * std::f64::consts::PI / k as f64;
+            for (p, q) in curve.iter().zip(&turned) {
+                assert!(close(rotate(*p, turn), *q), "k {k}: rotation");
+            }
+        }
+    }
+    // Valence 4: the spoke is a straight lattice line; the curve is its segment, at
+    // uniform speed (control points equally spaced).
+    let net = DomainNet::new(4);
+    let curve = division_curve(&net, 0);
+    let (c, m) = (curve[0], curve[7]);
+    for (i, p) in curve.iter().enumerate() {
+        let expected = [0, 1].map(|x| c[x] + i as f64 / 7.0 * (m[x] - c[x]));
+        assert!(
+            distance(*p, expected) < 1e-13,
+            "control point {i}: {p:?} vs {expected:?}"
+        );
+    }
+}

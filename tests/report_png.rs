@@ -45,7 +45,11 @@ impl Picture {
     }
 
     fn pair(&self, key: &str) -> (f64, f64) {
-        let v: Vec<f64> = self.text(key).split(' ').map(|x| x.parse().unwrap()).collect();
+        let v: Vec<f64> = self
+            .text(key)
+            .split(' ')
+            .map(|x| x.parse().unwrap())
+            .collect();
         (v[0], v[1])
     }
 
@@ -59,12 +63,20 @@ impl Picture {
         let (x0, y0, x1, y1) = colour_bar_box(self.width, height);
         for x in x0..x1 {
             assert_eq!(self.pixel(x, y0), colour_of(max, range), "top of the bar");
-            assert_eq!(self.pixel(x, y1 - 1), colour_of(min, range), "bottom of the bar");
+            assert_eq!(
+                self.pixel(x, y1 - 1),
+                colour_of(min, range),
+                "bottom of the bar"
+            );
         }
         let rows = y1 - y0;
         for row in 0..rows {
             let value = max - (max - min) * row as f64 / (rows - 1) as f64;
-            assert_eq!(self.pixel(x0 + 8, y0 + row), colour_of(value, range), "row {row}");
+            assert_eq!(
+                self.pixel(x0 + 8, y0 + row),
+                colour_of(value, range),
+                "row {row}"
+            );
         }
     }
 }
@@ -79,7 +91,11 @@ fn grid_with_quality() -> PolygonMesh {
         for i in 0..n {
             let (x, y) = (i as f64 / 10.0, j as f64 / 10.0);
             positions.push([x, y, 0.2 * (3.0 * x).sin()]);
-            quality.push(if (i, j) == (3, 4) { 40.0 } else { (2.0 * x).cos() - y });
+            quality.push(if (i, j) == (3, 4) {
+                40.0
+            } else {
+                (2.0 * x).cos() - y
+            });
         }
     }
     let faces: Vec<[u32; 4]> = (0..n - 1)
@@ -112,7 +128,10 @@ fn the_colour_bar_is_labelled_with_the_quality_and_shows_its_colours() {
     picture.check_bar(q, options.height);
     let (lo, hi) = picture.pair("surfkit:colour-range");
     let (min, max) = picture.pair("surfkit:colour-bar");
-    assert!(min < lo && hi < max, "the outlier saturates: [{lo}, {hi}] in [{min}, {max}]");
+    assert!(
+        min < lo && hi < max,
+        "the outlier saturates: [{lo}, {hi}] in [{min}, {max}]"
+    );
     // The title's pixels are drawn (text colour at the top left).
     let lit = (8..8 + 8 * 11).any(|x| (8..16).any(|y| picture.pixel(x, y) == [230, 230, 230]));
     assert!(lit, "title drawn");
@@ -122,16 +141,26 @@ fn the_colour_bar_is_labelled_with_the_quality_and_shows_its_colours() {
 fn limit_writes_a_picture_whose_bar_matches_its_samples() {
     let dir = tempfile::tempdir().unwrap();
     let ply = dir.path().join("samples.ply");
-    let input = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/meshes/catmark_torus.obj");
+    let input = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/fixtures/meshes/catmark_torus.obj"
+    );
     let out = Command::new(env!("CARGO_BIN_EXE_surfkit"))
         .args(["limit", input, "-o"])
         .arg(&ply)
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let samples = surfkit::mesh::io::read(&ply).unwrap();
     let picture = read_png(&ply.with_extension("png"));
     assert_eq!(picture.text("surfkit:quantity"), "mean curvature H");
     assert!(picture.text("Title").contains("catmark_torus.obj"));
-    picture.check_bar(samples.quality.as_ref().unwrap(), RenderOptions::default().height);
+    picture.check_bar(
+        samples.quality.as_ref().unwrap(),
+        RenderOptions::default().height,
+    );
 }
