@@ -136,8 +136,8 @@ fn division_curves_meet_their_hermite_data() {
             assert!(close(start[0], c), "k {k}: centre");
             let chord = [end[0][0] - c[0], end[0][1] - c[1]];
             assert!(close(start[1], chord), "k {k}: start tangent");
-            for order in 2..=4 {
-                assert!(close(start[order], [0.0, 0.0]), "k {k}: derivative {order}");
+            for (order, d) in start.iter().enumerate().take(5).skip(2) {
+                assert!(close(*d, [0.0, 0.0]), "k {k}: derivative {order}");
             }
             // The k curves are one curve turned by 2π/k.
             let turned = division_curve(&net, (spoke + 1) % k);
