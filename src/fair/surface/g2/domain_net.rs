@@ -160,28 +160,9 @@ fn eigen_net(k: usize) -> (f64, Vec<f64>, Vec<f64>) {
 
 /// The uniform cubic B-spline arc of control points `p` at t ∈ [0, 1], and its derivative.
 pub fn cubic_arc(p: [[f64; 2]; 4], t: f64) -> ([f64; 2], [f64; 2]) {
-    let s = 1.0 - t;
-    let w = [
-        s * s * s / 6.0,
-        (3.0 * t * t * t - 6.0 * t * t + 4.0) / 6.0,
-        (-3.0 * t * t * t + 3.0 * t * t + 3.0 * t + 1.0) / 6.0,
-        t * t * t / 6.0,
-    ];
-    let dw = [
-        -s * s / 2.0,
-        (3.0 * t * t - 4.0 * t) / 2.0,
-        (-3.0 * t * t + 2.0 * t + 1.0) / 2.0,
-        t * t / 2.0,
-    ];
-    let mut point = [0.0; 2];
-    let mut tangent = [0.0; 2];
-    for j in 0..4 {
-        for c in 0..2 {
-            point[c] += w[j] * p[j][c];
-            tangent[c] += dw[j] * p[j][c];
-        }
-    }
-    (point, tangent)
+    let [w, dw, ..] = crate::subdiv::cubic_basis(t);
+    let combine = |w: [f64; 4]| [0, 1].map(|c| (0..4).map(|j| w[j] * p[j][c]).sum::<f64>());
+    (combine(w), combine(dw))
 }
 
 /// The boundary of Ω_k, counter-clockwise: per sector, the border of face [0, 1]² along
