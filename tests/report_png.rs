@@ -164,3 +164,70 @@ fn limit_writes_a_picture_whose_bar_matches_its_samples() {
         RenderOptions::default().height,
     );
 }
+
+/// A UV sphere whose quality is non-zero only on its bottom cap (z < −0.6).
+fn sphere_with_bottom_feature() -> PolygonMesh {
+    let (rings, segments) = (24usize, 48usize);
+    let mut positions = vec![[0.0, 0.0, 1.0]];
+    for r in 1..rings {
+        let theta = std::f64::consts::PI * r as f64 / rings as f64;
+        for s in 0..segments {
+            let phi = 2.0 * std::f64::consts::PI * s as f64 / segments as f64;
+            positions.push([
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            ]);
+        }
+    }
+    positions.push([0.0, 0.0, -1.0]);
+    let south = positions.len() as u32 - 1;
+    let at = |r: usize, s: usize| (1 + (r - 1) * segments + s % segments) as u32;
+    let mut faces: Vec<Vec<u32>> = Vec::new();
+    for s in 0..segments {
+        faces.push(vec![0, at(1, s), at(1, s + 1)]);
+        faces.push(vec![south, at(rings - 1, s + 1), at(rings - 1, s)]);
+        for r in 1..rings - 1 {
+            faces.push(vec![at(r, s), at(r + 1, s), at(r + 1, s + 1), at(r, s + 1)]);
+        }
+    }
+    let quality = positions.iter().map(|p| (-p[2] - 0.6).max(0.0)).collect();
+    let mut mesh = PolygonMesh::from_polygons(positions, &faces);
+    mesh.quality = Some(quality);
+    mesh
+}
+
+/// Pixels of the picture in the colour map's red half, well away from white and grey.
+fn red_pixels(picture: &Picture, height: u32) -> usize {
+    let (x0, ..) = colour_bar_box(picture.width, height);
+    (0..height as usize)
+        .flat_map(|y| (0..x0.saturating_sub(8)).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let [r, g, b] = picture.pixel(x, y);
+            i32::from(r) - i32::from(b) > 60 && i32::from(r) - i32::from(g) > 60
+        })
+        .count()
+}
+
+#[test]
+fn the_automatic_view_turns_to_the_feature() {
+    // Seen from above (the fixed default view) the sphere's coloured cap is hidden; the
+    // automatic view looks from below and shows it.
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = sphere_with_bottom_feature();
+    let count = |auto_view: bool| {
+        let path = dir.path().join(format!("sphere_{auto_view}.png"));
+        let options = RenderOptions {
+            auto_view,
+            ..RenderOptions::default()
+        };
+        render_png(&mesh, &path, &options).unwrap();
+        red_pixels(&read_png(&path), options.height)
+    };
+    let (fixed, automatic) = (count(false), count(true));
+    assert_eq!(fixed, 0, "the default view looks from above");
+    assert!(
+        automatic > 2000,
+        "{automatic} red pixels from the automatic view"
+    );
+}

@@ -18,9 +18,12 @@ pub struct RenderOptions {
     /// Quality values mapped to the ends of the colour map; `None` uses the 2nd and 98th
     /// percentiles, symmetric about 0 when the values change sign.
     pub range: Option<(f64, f64)>,
-    /// Azimuth and elevation of the view direction, in degrees.
+    /// Azimuth and elevation of the view direction, in degrees (with `auto_view`, the
+    /// view taken unless another shows the quality's structure clearly better).
     pub azimuth: f64,
     pub elevation: f64,
+    /// Choose the view that shows most of the coloured structure (see [`best_view`]).
+    pub auto_view: bool,
     /// Drawn at the top left.
     pub title: Option<String>,
     /// The quality's name, drawn over the colour bar (a mesh with quality gets a bar).
@@ -35,6 +38,7 @@ impl Default for RenderOptions {
             range: None,
             azimuth: 35.0,
             elevation: 30.0,
+            auto_view: true,
             title: None,
             quantity: None,
         }
@@ -75,14 +79,16 @@ pub fn color_range(values: &[f64]) -> (f64, f64) {
     }
 }
 
-/// Renders `mesh` coloured by `mesh.quality` (grey without) into an RGB image, row-major.
-pub fn render_rgb(mesh: &PolygonMesh, options: &RenderOptions) -> Vec<u8> {
-    let (w, h) = (options.width as usize, options.height as usize);
-    let mut image: Vec<u8> = BACKGROUND.iter().copied().cycle().take(w * h * 3).collect();
-    let Some((lo, hi)) = mesh.bounding_box() else {
-        return image;
-    };
-    let (az, el) = (options.azimuth.to_radians(), options.elevation.to_radians());
+/// The view of `mesh` from (azimuth, elevation) in degrees on a w × h screen: each
+/// vertex's pixel coordinates and depth, and the direction towards the viewer.
+fn project_view(
+    mesh: &PolygonMesh,
+    (azimuth, elevation): (f64, f64),
+    w: usize,
+    h: usize,
+) -> Option<(Vec<(f64, f64, f64)>, [f64; 3])> {
+    let (lo, hi) = mesh.bounding_box()?;
+    let (az, el) = (azimuth.to_radians(), elevation.to_radians());
     // View basis: right, up, towards the viewer.
     let toward = [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()];
     let right = [-az.sin(), az.cos(), 0.0];
@@ -103,7 +109,86 @@ pub fn render_rgb(mesh: &PolygonMesh, options: &RenderOptions) -> Vec<u8> {
             dot(d, toward),
         )
     };
-    let screen: Vec<(f64, f64, f64)> = mesh.positions.iter().map(project).collect();
+    Some((mesh.positions.iter().map(project).collect(), toward))
+}
+
+/// Faces the view search rasterizes at most (every k-th face beyond): the score needs
+/// the picture's proportions, not its detail.
+const VIEW_SEARCH_FACES: usize = 40_000;
+
+/// The view that shows most of the quality's structure: of 8 azimuths × 5 elevations
+/// (and the requested view), the one whose small depth-tested picture holds the largest
+/// sum of |t − t̃| over its pixels, t the colour-map coordinate and t̃ its median — how far
+/// the colours stand out from the surface's typical colour (a hole's border, a saddle).
+/// The requested view is kept unless another scores 10 % more, so pictures stay put where
+/// they already show the feature.
+pub fn best_view(mesh: &PolygonMesh, options: &RenderOptions) -> (f64, f64) {
+    let requested = (options.azimuth, options.elevation);
+    let Some(q) = &mesh.quality else {
+        return requested;
+    };
+    let (lo, hi) = options.range.unwrap_or_else(|| color_range(q));
+    let t = |v: f64| ((v - lo) / (hi - lo)).clamp(0.0, 1.0);
+    let mut finite: Vec<f64> = q.iter().copied().filter(|v| v.is_finite()).map(t).collect();
+    if finite.is_empty() {
+        return requested;
+    }
+    let middle = finite.len() / 2;
+    let typical = *finite.select_nth_unstable_by(middle, f64::total_cmp).1;
+    let salience: Vec<f64> = q
+        .iter()
+        .map(|&v| {
+            if v.is_finite() {
+                (t(v) - typical).abs()
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let (w, h) = (96usize, 72usize);
+    let stride = mesh.face_count().div_ceil(VIEW_SEARCH_FACES).max(1);
+    let score = |view: (f64, f64)| {
+        let Some((screen, _)) = project_view(mesh, view, w, h) else {
+            return 0.0;
+        };
+        let mut depth = vec![f64::NEG_INFINITY; w * h];
+        let mut seen = vec![0.0; w * h];
+        for face in mesh.faces().step_by(stride).filter(|f| f.len() >= 3) {
+            for k in 1..face.len() - 1 {
+                let tri = [face[0] as usize, face[k] as usize, face[k + 1] as usize];
+                fill_triangle(&screen, &tri, &mut depth, w, h, |px, b| {
+                    seen[px] = (0..3).map(|i| b[i] * salience[tri[i]]).sum();
+                });
+            }
+        }
+        seen.iter().sum::<f64>()
+    };
+    let mut best = (requested, score(requested));
+    let threshold = 1.1 * best.1;
+    for elevation in [-60.0, -30.0, 0.0, 30.0, 60.0] {
+        for a in 0..8 {
+            let view = (45.0 * f64::from(a) + 22.5, elevation);
+            let s = score(view);
+            if s > best.1.max(threshold) {
+                best = (view, s);
+            }
+        }
+    }
+    best.0
+}
+
+/// Renders `mesh` coloured by `mesh.quality` (grey without) into an RGB image, row-major.
+pub fn render_rgb(mesh: &PolygonMesh, options: &RenderOptions) -> Vec<u8> {
+    let (w, h) = (options.width as usize, options.height as usize);
+    let mut image: Vec<u8> = BACKGROUND.iter().copied().cycle().take(w * h * 3).collect();
+    let view = if options.auto_view {
+        best_view(mesh, options)
+    } else {
+        (options.azimuth, options.elevation)
+    };
+    let Some((screen, toward)) = project_view(mesh, view, w, h) else {
+        return image;
+    };
     let (qlo, qhi) = match (options.range, &mesh.quality) {
         (Some(r), _) => r,
         (None, Some(q)) => color_range(q),
