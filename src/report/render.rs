@@ -79,14 +79,16 @@ pub fn color_range(values: &[f64]) -> (f64, f64) {
     }
 }
 
-/// The view of `mesh` from (azimuth, elevation) in degrees on a w × h screen: each
-/// vertex's pixel coordinates and depth, and the direction towards the viewer.
+/// Each vertex's pixel coordinates and depth, and the direction towards the viewer.
+type Projected = (Vec<(f64, f64, f64)>, [f64; 3]);
+
+/// The view of `mesh` from (azimuth, elevation) in degrees on a w × h screen.
 fn project_view(
     mesh: &PolygonMesh,
     (azimuth, elevation): (f64, f64),
     w: usize,
     h: usize,
-) -> Option<(Vec<(f64, f64, f64)>, [f64; 3])> {
+) -> Option<Projected> {
     let (lo, hi) = mesh.bounding_box()?;
     let (az, el) = (azimuth.to_radians(), elevation.to_radians());
     // View basis: right, up, towards the viewer.
