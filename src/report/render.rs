@@ -179,8 +179,20 @@ pub fn best_view(mesh: &PolygonMesh, options: &RenderOptions) -> (f64, f64) {
     best.0
 }
 
+/// `options` with the colour range settled for `mesh` (computed once: it sorts every
+/// quality value, and the view search, the colouring and the bar all need it).
+fn with_range(mesh: &PolygonMesh, options: &RenderOptions) -> RenderOptions {
+    RenderOptions {
+        range: options
+            .range
+            .or_else(|| mesh.quality.as_deref().map(color_range)),
+        ..options.clone()
+    }
+}
+
 /// Renders `mesh` coloured by `mesh.quality` (grey without) into an RGB image, row-major.
 pub fn render_rgb(mesh: &PolygonMesh, options: &RenderOptions) -> Vec<u8> {
+    let options = &with_range(mesh, options);
     let (w, h) = (options.width as usize, options.height as usize);
     let mut image: Vec<u8> = BACKGROUND.iter().copied().cycle().take(w * h * 3).collect();
     let view = if options.auto_view {
@@ -191,11 +203,7 @@ pub fn render_rgb(mesh: &PolygonMesh, options: &RenderOptions) -> Vec<u8> {
     let Some((screen, toward)) = project_view(mesh, view, w, h) else {
         return image;
     };
-    let (qlo, qhi) = match (options.range, &mesh.quality) {
-        (Some(r), _) => r,
-        (None, Some(q)) => color_range(q),
-        (None, None) => (0.0, 1.0),
-    };
+    let (qlo, qhi) = options.range.unwrap_or((0.0, 1.0));
     let vertex_color = |v: usize| match &mesh.quality {
         Some(q) if q[v].is_finite() => diverging_color((q[v] - qlo) / (qhi - qlo)),
         _ => [0.75, 0.75, 0.75],
@@ -288,6 +296,7 @@ pub fn render_png(mesh: &PolygonMesh, path: &Path, options: &RenderOptions) -> R
             "a picture needs a width and height of at least 1".into(),
         ));
     }
+    let options = &with_range(mesh, options);
     let mut image = render_rgb(mesh, options);
     let mut texts: Vec<(&str, String)> = Vec::new();
     if let Some(title) = &options.title {
@@ -310,8 +319,7 @@ pub fn render_png(mesh: &PolygonMesh, path: &Path, options: &RenderOptions) -> R
     let extent = finite.fold(None, |m: Option<(f64, f64)>, q| {
         Some(m.map_or((q, q), |(lo, hi)| (lo.min(q), hi.max(q))))
     });
-    if let (Some(q), Some(extent)) = (&mesh.quality, extent) {
-        let range = options.range.unwrap_or_else(|| color_range(q));
+    if let (Some(range), Some(extent)) = (options.range, extent) {
         let quantity = options.quantity.as_deref().unwrap_or("quality");
         draw_colour_bar(
             &mut image,
