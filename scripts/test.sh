@@ -13,6 +13,9 @@ cargo test --release --workspace
 venv="$(dirname "$(dirname "${SURFKIT_PYTHON:-$PWD/.venv/bin/python}")")"
 VIRTUAL_ENV="$venv" CARGO_TARGET_DIR="$PWD/target/python" \
   "$venv/bin/maturin" develop --release --quiet -m python/Cargo.toml
-"$venv/bin/ruff" check python
-"$venv/bin/ruff" format --check python
+"$venv/bin/ruff" check python tests/browser
+"$venv/bin/ruff" format --check python tests/browser
 "$venv/bin/python" -m pytest -q python/tests
+# The HTML reports in headless Chromium (network off), driven by WebDriver; screenshots
+# are left in target/test-artifacts/browser.
+"$venv/bin/python" -m pytest -q tests/browser

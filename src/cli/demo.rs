@@ -11,6 +11,7 @@ use std::process::ExitCode;
 use crate::error::Error;
 use crate::halfedge::{build, HalfEdgeTopology, MeshSummary};
 use crate::mesh::io::{parse, write, Format, ReadOptions, WriteOptions};
+use crate::report::html::{eat_page, html_escape, surface_page, write_html};
 use crate::report::{render_png, RenderOptions};
 use crate::shapes::{stamp, StampFlaw};
 use crate::subdiv::{
@@ -30,18 +31,91 @@ pub struct DemoArgs {
     pub out: PathBuf,
 }
 
+/// The demo's HTML reports, one per section, with the index page that links them.
+struct Reports {
+    index: PathBuf,
+    sections: [(PathBuf, &'static str); 5],
+}
+
+impl Reports {
+    fn in_folder(out: &Path) -> Self {
+        Reports {
+            index: out.join("index.html"),
+            sections: [
+                (
+                    out.join("target_eat.html"),
+                    "the built-in example and its holes (EAT)",
+                ),
+                (
+                    out.join("stamp_eat.html"),
+                    "the EAT on the flawed stamp, flaw by flaw",
+                ),
+                (
+                    out.join("stamp_limit.html"),
+                    "Catmull–Clark limit surface, mean curvature",
+                ),
+                (
+                    out.join("kp2022_fill.html"),
+                    "offset surface with holes, filled (KP 2022)",
+                ),
+                (
+                    out.join("fair").join("tubes_fair.html"),
+                    "Kiciak's fairing, before and after",
+                ),
+            ],
+        }
+    }
+
+    /// The index: a plain page of links (no viewer), written last.
+    fn write_index(&self) -> crate::Result<()> {
+        let dir = self.index.parent().unwrap_or(Path::new("."));
+        let mut items = String::new();
+        for (path, what) in &self.sections {
+            let href = path.strip_prefix(dir).unwrap_or(path).display().to_string();
+            items.push_str(&format!(
+                "<li><a href=\"{}\">{}</a></li>\n",
+                html_escape(&href),
+                html_escape(what)
+            ));
+        }
+        let page = format!(
+            "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>surfkit \
+             demo</title><style>body{{font:15px system-ui,sans-serif;background:#303036;\
+             color:#e6e6e6;margin:2em}}a{{color:#ffd84a}}</style></head><body><h1>surfkit \
+             demo</h1><p>One report per section; each opens offline in this browser.</p><ol>\n\
+             {items}</ol></body></html>\n"
+        );
+        crate::mesh::io::write_atomically(&self.index, |w| w.write_all(page.as_bytes()))
+    }
+}
+
 pub fn run(args: &DemoArgs) -> crate::Result<ExitCode> {
     super::check_folder("--out", Some(&args.out))?;
+    let reports = Reports::in_folder(&args.out);
+    println!(
+        "surfkit demo — open {} in a browser:",
+        reports.index.display()
+    );
+    for (path, what) in &reports.sections {
+        println!("  {}  ({what})", path.display());
+    }
+    println!();
     let source = Path::new(EXAMPLE_NAME);
     let mut mesh = parse(source, EXAMPLE, Format::Obj, &ReadOptions::default())?;
     let summary = MeshSummary::of(&mesh)?;
     println!("surfkit demo — built-in example");
     print!("{}", super::info::render(source, Format::Obj, &summary));
+    let example_report = scan(&mesh, &EatOptions::default())?;
+    let example_text = super::eat::render(EXAMPLE_NAME, &example_report, usize::MAX);
+    std::fs::create_dir_all(&args.out).map_err(|e| Error::io(&args.out, e))?;
+    write_html(
+        &reports.sections[0].0,
+        &eat_page(EXAMPLE_NAME, &mesh, &example_report, &example_text),
+    )?;
 
     // Vertex valence as PLY quality, so MeshLab colours the mesh by it.
     let valences = build(&mesh)?.mesh.vertex_valences();
     mesh.quality = Some(valences.iter().map(|&v| f64::from(v)).collect());
-    std::fs::create_dir_all(&args.out).map_err(|e| Error::io(&args.out, e))?;
     let written = [
         args.out.join("target_valence.ply"),
         args.out.join("target.off"),
@@ -82,6 +156,11 @@ pub fn run(args: &DemoArgs) -> crate::Result<ExitCode> {
     };
     let report = scan(&flawed, &options)?;
     print!("{}", super::eat::render("stamp.obj (built in)", &report, 6));
+    let stamp_text = super::eat::render("stamp.obj (built in)", &report, usize::MAX);
+    write_html(
+        &reports.sections[1].0,
+        &eat_page("stamp.obj (built in)", &flawed, &report, &stamp_text),
+    )?;
     let stamp_path = args.out.join("stamp.obj");
     let marked_path = args.out.join("stamp_flaws.ply");
     write(&stamp_path, &flawed, &WriteOptions::default())?;
@@ -120,6 +199,15 @@ pub fn run(args: &DemoArgs) -> crate::Result<ExitCode> {
         ..RenderOptions::default()
     };
     render_png(&sampled.mesh, &picture_path, &options)?;
+    write_html(
+        &reports.sections[2].0,
+        &surface_page(
+            "limit surface of the repaired stamp",
+            vec![("control faces".into(), repaired.face_count().to_string())],
+            &[("limit surface", &sampled.mesh)],
+            "mean curvature H",
+        ),
+    )?;
     write(&refined_path, &refined, &WriteOptions::default())?;
     let regular = surface.patches().iter().filter(|p| p.regular).count();
     println!(
@@ -154,18 +242,41 @@ pub fn run(args: &DemoArgs) -> crate::Result<ExitCode> {
         run.error1, run.error, run.c1_jump
     );
     println!("wrote:");
-    for path in
-        crate::report::write_figures(&args.out, &crate::fit::paper_kp2022::figure_meshes(0)?)?
-    {
+    let figures = crate::fit::paper_kp2022::figure_meshes(0)?;
+    for path in crate::report::write_figures(&args.out, &figures)? {
         println!("  {}", path.display());
     }
-    fairing(&args.out)?;
+    let panels: Vec<(&str, &crate::mesh::PolygonMesh)> =
+        figures.iter().map(|(n, m)| (n.as_str(), m)).collect();
+    write_html(
+        &reports.sections[3].0,
+        &surface_page(
+            "KP 2022: offset surface with two holes, its approximation and the filling",
+            vec![
+                ("knots".into(), "9 × 9".into()),
+                ("points".into(), "500".into()),
+                (
+                    "Error₁ (paper 2.7695e-4)".into(),
+                    format!("{:.3e}", run.error1),
+                ),
+                (
+                    "filled Error (paper 2.7216e-4)".into(),
+                    format!("{:.3e}", run.error),
+                ),
+            ],
+            &panels,
+            "distance to the exact offset",
+        ),
+    )?;
+    fairing(&args.out, &reports.sections[4].0)?;
+    reports.write_index()?;
+    println!("\nreports: {}", reports.index.display());
     Ok(ExitCode::SUCCESS)
 }
 
 /// Kiciak's shape optimization on the author's three-tube junction (359 vertices, issue 6):
 /// the mean curvature before and after, and the files to look at.
-fn fairing(out: &Path) -> crate::Result<()> {
+fn fairing(out: &Path, html: &Path) -> crate::Result<()> {
     println!(
         "\n— Shape optimization of a Catmull–Clark surface (Kiciak): junction of three tubes —"
     );
@@ -186,11 +297,18 @@ fn fairing(out: &Path) -> crate::Result<()> {
     let faired_path = dir.join("tubes_faired.obj");
     write(&faired_path, faired, &WriteOptions::default())?;
     let samples_path = dir.join("tubes_faired_samples.ply");
+    let html = super::fair::HtmlRequest {
+        path: html,
+        title: "Kiciak's fairing of a three-tube junction".into(),
+        summary: super::html_pages::fair_summary("gen tubes (built in)", report, change, seconds),
+        plot: Some(super::html_pages::fair_log_plot(report)),
+    };
     let written = super::fair::write_results(
         &mesh,
         faired,
         Some(&samples_path),
         Some(&dir),
+        Some(html),
         4,
         options.representation.isolation,
     )?;

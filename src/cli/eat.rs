@@ -10,6 +10,7 @@ use std::process::ExitCode;
 use crate::error::{Error, Result};
 use crate::mesh::io::{read_with, write, ReadOptions, WriteOptions};
 use crate::mesh::PolygonMesh;
+use crate::report::html::{eat_page, write_html};
 use crate::topology::{
     mark_flaws, scan, stage_ends, test_points, EatOptions, EatReport, FlawKind, LocatorOptions,
     StageSource, TargetTopology,
@@ -57,6 +58,11 @@ pub struct EatArgs {
     /// Write the mesh with flawed vertices coloured (and the flaw kind as quality) here.
     #[arg(long)]
     pub mark: Option<PathBuf>,
+    /// Write a self-contained HTML report here (one mesh): the mesh with its flaws
+    /// highlighted by kind, boundary loops as lines, and the flaw list (a click centres the
+    /// view on a flaw and shows its description and fix). Opens offline in any browser.
+    #[arg(long)]
+    pub html: Option<PathBuf>,
     /// How many flaws and facets to list in the human summary.
     #[arg(long, default_value_t = 20)]
     pub show: usize,
@@ -178,12 +184,19 @@ pub fn run(args: &EatArgs) -> Result<ExitCode> {
         )));
     }
     if args.many() {
+        if args.html.is_some() {
+            return Err(Error::InvalidInput(
+                "--html writes the report of one mesh: give one file (not a folder, several \
+                 files or --jsonl)"
+                    .into(),
+            ));
+        }
         return super::eat_folder::run(args);
     }
     let path = &args.meshes[0];
     super::check_paths(
         &[Some(path), args.reference.as_deref()],
-        &[args.mark.as_deref()],
+        &[args.mark.as_deref(), args.html.as_deref()],
     )?;
     let fail_on = fail_kinds(&args.fail_on)?;
     let expected = expected_chis(args)?;
@@ -195,24 +208,30 @@ pub fn run(args: &EatArgs) -> Result<ExitCode> {
             &WriteOptions::default(),
         )?;
     }
+    let name = path.display().to_string();
+    if let Some(out) = &args.html {
+        let text = render(&name, &report, usize::MAX);
+        write_html(out, &eat_page(&name, &mesh, &report, &text))?;
+    }
     if args.json {
         super::print_json(&serde_json::json!({
             "file": path,
             "verified": report.verified(),
             "failing_flaw_kinds": failing_kinds,
             "marked_mesh": args.mark,
+            "html": args.html,
             "report": report,
         }))?;
     } else {
-        print!(
-            "{}",
-            render(&path.display().to_string(), &report, args.show)
-        );
+        print!("{}", render(&name, &report, args.show));
         if let Some(out) = &args.mark {
             println!(
                 "wrote {} (flawed vertices coloured; quality = flaw kind number)",
                 out.display()
             );
+        }
+        if let Some(out) = &args.html {
+            println!("wrote {} (open it in a browser)", out.display());
         }
     }
     let failed = !report.verified() || !failing_kinds.is_empty();

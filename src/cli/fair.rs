@@ -11,6 +11,7 @@ use std::process::ExitCode;
 
 use crate::error::Error;
 
+use super::html_pages::{fair_log_plot, fair_summary};
 use crate::fair::{
     curvature_samples, optimize_levels_observed, read_fixed, refine_surface, shape_change, tubes,
     BlockOptions, EndCaps, FairOptions, FairReport, Iteration, LevelReport, LmMatrix,
@@ -20,6 +21,7 @@ use crate::fair::{
 use crate::limits::MemoryBudget;
 use crate::mesh::io::{read, write, WriteOptions};
 use crate::mesh::PolygonMesh;
+use crate::report::html::{surface_page, write_html};
 use crate::report::{color_range, render_png, RenderOptions};
 
 #[derive(clap::Args, Debug)]
@@ -75,6 +77,11 @@ pub struct FairArgs {
     /// Folder for before/after curvature-map pictures (PNG, one colour scale for both).
     #[arg(long)]
     pub figures: Option<PathBuf>,
+    /// Write a self-contained HTML report here: the surface before and after side by side,
+    /// mean curvature under one colour scale with its bar, isophotes and reflection lines,
+    /// and the optimization log as a plot.
+    #[arg(long)]
+    pub html: Option<PathBuf>,
     /// Use the block method of the paper's §5 with this many blocks (for large meshes:
     /// block Newton iterations, then global Newton steps by Schwarz-preconditioned CG).
     #[arg(long)]
@@ -114,30 +121,42 @@ pub struct FairArgs {
     pub json: bool,
 }
 
+/// An HTML report [`write_results`] is asked for: where, and what the page says besides
+/// the two surfaces.
+pub(super) struct HtmlRequest<'a> {
+    pub path: &'a Path,
+    pub title: String,
+    pub summary: Vec<(String, String)>,
+    pub plot: Option<crate::report::html::Plot>,
+}
+
 /// The files [`write_results`] wrote, for the summary.
 pub(super) struct Written {
     pub samples: Option<PathBuf>,
     pub figures: Vec<PathBuf>,
+    pub html: Option<PathBuf>,
     /// Colour range of the figures (mean curvature).
     pub range: Option<(f64, f64)>,
 }
 
-/// Limit samples of the optimized surface and before/after curvature maps with one colour
-/// scale, as asked.
+/// Limit samples of the optimized surface, before/after curvature maps with one colour
+/// scale, and the HTML report, as asked.
 pub(super) fn write_results(
     before: &PolygonMesh,
     after: &PolygonMesh,
     samples: Option<&Path>,
     figures: Option<&Path>,
+    html: Option<HtmlRequest>,
     density: u32,
     isolation: u32,
 ) -> crate::Result<Written> {
     let mut written = Written {
         samples: None,
         figures: Vec::new(),
+        html: None,
         range: None,
     };
-    if samples.is_none() && figures.is_none() {
+    if samples.is_none() && figures.is_none() && html.is_none() {
         return Ok(written);
     }
     let after_samples = curvature_samples(after, density, isolation)?.mesh;
@@ -145,8 +164,23 @@ pub(super) fn write_results(
         write(path, &after_samples, &WriteOptions::default())?;
         written.samples = Some(path.to_path_buf());
     }
+    let before_samples = if figures.is_some() || html.is_some() {
+        curvature_samples(before, density, isolation)?.mesh
+    } else {
+        PolygonMesh::default()
+    };
+    if let Some(request) = html {
+        let mut page = surface_page(
+            &request.title,
+            request.summary,
+            &[("before", &before_samples), ("after", &after_samples)],
+            "mean curvature H",
+        );
+        page.plot = request.plot;
+        write_html(request.path, &page)?;
+        written.html = Some(request.path.to_path_buf());
+    }
     if let Some(dir) = figures {
-        let before_samples = curvature_samples(before, density, isolation)?.mesh;
         let all: Vec<f64> = [&before_samples, &after_samples]
             .iter()
             .flat_map(|m| m.quality.iter().flatten().copied())
@@ -322,7 +356,11 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
     super::check_folder("--figures", args.figures.as_deref())?;
     super::check_paths(
         &[Some(&args.input), args.fixed.as_deref()],
-        &[Some(&args.output), args.samples.as_deref()],
+        &[
+            Some(&args.output),
+            args.samples.as_deref(),
+            args.html.as_deref(),
+        ],
     )?;
     let mesh = read(&args.input)?;
     if mesh.sharp_features.is_some() {
@@ -339,11 +377,19 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
     let run = optimize_with_progress(&mesh, args.levels, &options, !args.quiet && !args.json)?;
     let (out, report, change, seconds) = (&run.after, run.report(), &run.change, run.seconds);
     write(&args.output, out, &WriteOptions::default())?;
+    let input_name = args.input.display().to_string();
+    let html = args.html.as_deref().map(|path| HtmlRequest {
+        path,
+        title: format!("fairing of {input_name} (Kiciak)"),
+        summary: fair_summary(&input_name, report, change, seconds),
+        plot: Some(fair_log_plot(report)),
+    });
     let written = write_results(
         &run.before,
         out,
         args.samples.as_deref(),
         args.figures.as_deref(),
+        html,
         args.sample_density,
         args.isolation,
     )?;
@@ -352,7 +398,7 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
             "input": args.input, "output": args.output, "seconds": seconds,
             "fixed_given": options.fixed.len(),
             "shape": change,
-            "samples": written.samples, "figures": written.figures,
+            "samples": written.samples, "figures": written.figures, "html": written.html,
             "figure_range": written.range,
             "report": report,
             "levels": run.levels,
@@ -419,6 +465,9 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
         }
         for path in &written.figures {
             println!("  {}  (curvature map)", path.display());
+        }
+        if let Some(path) = &written.html {
+            println!("  {}  (HTML report: open it in a browser)", path.display());
         }
     }
     let n = &report.newton;

@@ -11,6 +11,7 @@ use crate::fit::fill::FillVariant;
 use crate::fit::hole::{Hole, HoleShape};
 use crate::fit::pipeline::{fit_and_fill, offset_data, FitSetup, HoleSource, SpaceKind};
 use crate::fit::shape::{ShapeConstraints, Tau};
+use crate::report::html::{surface_page, write_html, HtmlPage, LegendEntry, Lines, Points};
 use crate::{Error, Result};
 
 /// The spline space.
@@ -50,6 +51,10 @@ pub struct SplineArgs {
     /// Coefficients to write (.json).
     #[arg(long)]
     pub coefficients: Option<PathBuf>,
+    /// Write a self-contained HTML report here: the spline surface coloured by the fit
+    /// error (RMS misfit of each cell's data), the data points, and the hole's border.
+    #[arg(long)]
+    pub html: Option<PathBuf>,
     /// Samples per side of the mesh (1 to 4096: checked before any work).
     #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub resolution: u32,
@@ -237,7 +242,11 @@ pub fn run(args: &FillArgs) -> Result<()> {
     let a = &args.spline;
     super::check_paths(
         &[Some(&a.input), args.shape_points.as_deref()],
-        &[a.output.as_deref(), a.coefficients.as_deref()],
+        &[
+            a.output.as_deref(),
+            a.coefficients.as_deref(),
+            a.html.as_deref(),
+        ],
     )?;
     let hole = if args.hole_from_data {
         HoleSource::CellsWithoutData
@@ -308,7 +317,84 @@ pub fn run(args: &FillArgs) -> Result<()> {
     if let Some(p) = &args.spline.coefficients {
         println!("  wrote {}", p.display());
     }
+    if let Some(p) = &args.spline.html {
+        println!(
+            "  wrote {} (HTML report: open it in a browser)",
+            p.display()
+        );
+    }
     Ok(())
+}
+
+/// The HTML report of a fit: the sampled spline coloured by the fit error, the data points
+/// and the hole's border on the surface.
+fn fit_page(
+    args: &SplineArgs,
+    out: &crate::fit::pipeline::FitOutcome,
+    data: &crate::fit::data::ScatteredData,
+    mesh: &crate::mesh::PolygonMesh,
+) -> Result<HtmlPage> {
+    let s = &out.summary;
+    let mut summary = vec![
+        ("data".to_string(), args.input.display().to_string()),
+        ("points".to_string(), s.points.to_string()),
+        (
+            "space".to_string(),
+            format!("{:?}, {} × {} cells", s.space, s.cells[0], s.cells[1]),
+        ),
+        ("ε".to_string(), format!("{:e}", s.epsilon)),
+        (
+            "misfit at the data".to_string(),
+            format!("rms {:.3e}, max {:.3e}", s.rms_misfit, s.max_misfit),
+        ),
+        ("hole cells".to_string(), s.hole_cells.to_string()),
+    ];
+    if let Some(f) = &s.fill {
+        summary.push((
+            "jumps across the hole's border".to_string(),
+            format!("C⁰ {:.2e}, C¹ {:.2e}", f.c0_jump, f.c1_jump),
+        ));
+    }
+    let name = args.input.display().to_string();
+    let title = if s.fill.is_some() {
+        format!("hole filling of {name}")
+    } else {
+        format!("spline fit of {name}")
+    };
+    let mut page = surface_page(
+        &title,
+        summary,
+        &[("spline surface", mesh)],
+        "fit error (RMS misfit per cell)",
+    );
+    let view = &mut page.views[0];
+    let points = view.local_positions(data.points.iter());
+    view.points.push(Points {
+        name: "data points".into(),
+        colour: [255, 216, 74],
+        positions: points,
+        size: 3.0,
+    });
+    page.legend.push(LegendEntry {
+        name: "data points".into(),
+        colour: [255, 216, 74],
+        count: data.points.len(),
+    });
+    let border = out.hole_border(8)?;
+    if !border.is_empty() {
+        let segments = view.local_positions(border.iter());
+        view.lines.push(Lines {
+            name: "hole border".into(),
+            colour: [0, 230, 160],
+            segments,
+        });
+        page.legend.push(LegendEntry {
+            name: "hole border".into(),
+            colour: [0, 230, 160],
+            count: border.len() / 2,
+        });
+    }
+    Ok(page)
 }
 
 /// The spline setup of `fit` and `fill`: space and cells from the arguments.
@@ -377,9 +463,14 @@ pub(super) fn load_and_solve(
         None => data,
     };
     let out = fit_and_fill(&data, setup)?;
-    if let Some(path) = output {
+    if output.is_some() || args.html.is_some() {
         let mesh = out.mesh(&data, resolution)?;
-        crate::mesh::io::write(path, &mesh, &crate::mesh::io::WriteOptions::default())?;
+        if let Some(path) = output {
+            crate::mesh::io::write(path, &mesh, &crate::mesh::io::WriteOptions::default())?;
+        }
+        if let Some(path) = &args.html {
+            write_html(path, &fit_page(args, &out, &data, &mesh)?)?;
+        }
     }
     if let Some(path) = coefficients {
         let text = serde_json::to_string(&out.coefficients())

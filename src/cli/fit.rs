@@ -21,7 +21,11 @@ pub fn run(args: &FitArgs) -> Result<()> {
     let a = &args.spline;
     super::check_paths(
         &[Some(&a.input)],
-        &[a.output.as_deref(), a.coefficients.as_deref()],
+        &[
+            a.output.as_deref(),
+            a.coefficients.as_deref(),
+            a.html.as_deref(),
+        ],
     )?;
     let setup = super::fill::setup(&args.spline, HoleSource::None, FillVariant::Paper)?;
     let out = super::fill::load_and_solve(&args.spline, &setup)?;
@@ -43,7 +47,13 @@ pub fn run(args: &FitArgs) -> Result<()> {
         s.rms_misfit,
         s.max_misfit
     );
-    for p in args.spline.output.iter().chain(&args.spline.coefficients) {
+    for p in args
+        .spline
+        .output
+        .iter()
+        .chain(&args.spline.coefficients)
+        .chain(&args.spline.html)
+    {
         println!("  wrote {}", p.display());
     }
     Ok(())

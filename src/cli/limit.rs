@@ -42,6 +42,10 @@ pub struct LimitArgs {
     /// with `.png`).
     #[arg(long)]
     pub png: Option<PathBuf>,
+    /// Write a self-contained HTML report here: the limit surface coloured by mean
+    /// curvature with its colour bar, isophotes and reflection lines.
+    #[arg(long)]
+    pub html: Option<PathBuf>,
     /// Print a JSON report.
     #[arg(long)]
     pub json: bool,
@@ -66,7 +70,11 @@ fn auto_samples(ptex_faces: usize) -> u32 {
 pub fn run(args: &LimitArgs, memory: MemoryBudget) -> crate::Result<()> {
     super::check_paths(
         &[Some(&args.input)],
-        &[Some(&args.output), args.png.as_deref()],
+        &[
+            Some(&args.output),
+            args.png.as_deref(),
+            args.html.as_deref(),
+        ],
     )?;
     let mesh = read(&args.input)?;
     let (creases, corners, creasing) = super::sharp_args::sharp_features(&mesh, &args.sharp)?;
@@ -130,16 +138,44 @@ pub fn run(args: &LimitArgs, memory: MemoryBudget) -> crate::Result<()> {
         ..crate::report::RenderOptions::default()
     };
     crate::report::render_png(samples, &png, &options)?;
+    let regular = surface.patches().iter().filter(|p| p.regular).count();
+    if let Some(path) = &args.html {
+        let summary = vec![
+            ("control mesh".into(), args.input.display().to_string()),
+            (
+                "patches".into(),
+                format!(
+                    "{} ({regular} regular, {} B-spline end caps)",
+                    surface.patches().len(),
+                    surface.patches().len() - regular
+                ),
+            ),
+            ("isolation level".into(), surface.isolation().to_string()),
+            (
+                "samples".into(),
+                format!(
+                    "{} ({samples_per_side} cells per face side)",
+                    samples.vertex_count()
+                ),
+            ),
+        ];
+        let page = crate::report::html::surface_page(
+            &format!("limit surface of {}", args.input.display()),
+            summary,
+            &[("limit surface", samples)],
+            "mean curvature H",
+        );
+        crate::report::html::write_html(path, &page)?;
+    }
     let h = samples.quality.as_deref().unwrap_or(&[]);
     let (lo, hi) = h
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
             (a.min(x), b.max(x))
         });
-    let regular = surface.patches().iter().filter(|p| p.regular).count();
     if args.json {
         let report = serde_json::json!({
-            "input": args.input, "output": args.output, "picture": png,
+            "input": args.input, "output": args.output, "picture": png, "html": args.html,
             "patches": surface.patches().len(), "regular_patches": regular,
             "isolation": surface.isolation(),
             "ptex_faces": surface.ptex_face_count(),
@@ -162,6 +198,9 @@ pub fn run(args: &LimitArgs, memory: MemoryBudget) -> crate::Result<()> {
             sampled.degenerate.len(),
             png.display()
         );
+        if let Some(path) = &args.html {
+            println!("  {}  (HTML report: open it in a browser)", path.display());
+        }
     }
     Ok(())
 }

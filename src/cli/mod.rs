@@ -23,6 +23,7 @@ mod eat_folder;
 mod fair;
 mod fill;
 mod fit;
+mod html_pages;
 mod info;
 mod limit;
 mod paper;

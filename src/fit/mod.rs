@@ -9,6 +9,7 @@ pub mod data;
 pub mod expr;
 pub mod fill;
 pub mod hole;
+mod hole_border;
 pub mod offset;
 pub mod paper_kp2004;
 pub mod paper_kp2022;
