@@ -231,3 +231,59 @@ fn the_automatic_view_turns_to_the_feature() {
         "{automatic} red pixels from the automatic view"
     );
 }
+
+#[test]
+fn fair_figures_share_a_scale_on_which_the_faired_surface_shows_structure() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("tubes.obj");
+    let run = |args: &[&std::ffi::OsStr]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_surfkit"))
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    run(&[
+        "gen".as_ref(),
+        "tubes".as_ref(),
+        "-o".as_ref(),
+        mesh.as_os_str(),
+    ]);
+    let figures = dir.path().join("figures");
+    let samples = dir.path().join("after.ply");
+    run(&[
+        "fair".as_ref(),
+        mesh.as_os_str(),
+        "-o".as_ref(),
+        dir.path().join("faired.obj").as_os_str(),
+        "--quiet".as_ref(),
+        "--samples".as_ref(),
+        samples.as_os_str(),
+        "--figures".as_ref(),
+        figures.as_os_str(),
+    ]);
+    let before = read_png(&figures.join("curvature_before.png"));
+    let after = read_png(&figures.join("curvature_after.png"));
+    let (lo, hi) = after.pair("surfkit:colour-range");
+    assert_eq!(before.pair("surfkit:colour-range"), (lo, hi));
+    // the faired surface's values (2nd to 98th percentile) span most of the colour map,
+    // not a pale sliver of it
+    let mut h = surfkit::mesh::io::read(&samples).unwrap().quality.unwrap();
+    h.sort_by(f64::total_cmp);
+    let at = |q: f64| h[((h.len() - 1) as f64 * q).round() as usize];
+    let spread = (at(0.98) - at(0.02)) / (hi - lo);
+    assert!(
+        spread > 0.6,
+        "the after values span {spread} of the colour range"
+    );
+    // the unfaired values reach beyond it on both sides: saturated where fairing changed most
+    let (bmin, bmax) = before.pair("surfkit:colour-bar");
+    assert!(
+        bmin < lo && hi < bmax,
+        "the before values saturate beyond the range"
+    );
+}

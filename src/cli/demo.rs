@@ -206,6 +206,7 @@ pub fn run(args: &DemoArgs) -> crate::Result<ExitCode> {
             vec![("control faces".into(), repaired.face_count().to_string())],
             &[("limit surface", &sampled.mesh)],
             "mean curvature H",
+            None,
         ),
     )?;
     write(&refined_path, &refined, &WriteOptions::default())?;
@@ -266,6 +267,7 @@ pub fn run(args: &DemoArgs) -> crate::Result<ExitCode> {
             ],
             &panels,
             "distance to the exact offset",
+            None,
         ),
     )?;
     fairing(&args.out, &reports.sections[4].0)?;

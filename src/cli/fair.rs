@@ -22,7 +22,7 @@ use crate::limits::MemoryBudget;
 use crate::mesh::io::{read, write, WriteOptions};
 use crate::mesh::PolygonMesh;
 use crate::report::html::{surface_page, write_html};
-use crate::report::{color_range, render_png, RenderOptions};
+use crate::report::{paired_color_range, render_png, RenderOptions};
 
 #[derive(clap::Args, Debug)]
 pub struct FairArgs {
@@ -169,23 +169,21 @@ pub(super) fn write_results(
     } else {
         PolygonMesh::default()
     };
+    let quality = |m: &PolygonMesh| m.quality.clone().unwrap_or_default();
+    let range = paired_color_range(&quality(&before_samples), &quality(&after_samples));
     if let Some(request) = html {
         let mut page = surface_page(
             &request.title,
             request.summary,
             &[("before", &before_samples), ("after", &after_samples)],
             "mean curvature H",
+            Some(range),
         );
         page.plot = request.plot;
         write_html(request.path, &page)?;
         written.html = Some(request.path.to_path_buf());
     }
     if let Some(dir) = figures {
-        let all: Vec<f64> = [&before_samples, &after_samples]
-            .iter()
-            .flat_map(|m| m.quality.iter().flatten().copied())
-            .collect();
-        let range = color_range(&all);
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
         for (name, title, mesh) in [
             ("curvature_before.png", "before fairing", &before_samples),

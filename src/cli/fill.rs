@@ -366,6 +366,7 @@ fn fit_page(
         summary,
         &[("spline surface", mesh)],
         "fit error (RMS misfit per cell)",
+        None,
     );
     let view = &mut page.views[0];
     let points = view.local_positions(data.points.iter());

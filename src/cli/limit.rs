@@ -164,6 +164,7 @@ pub fn run(args: &LimitArgs, memory: MemoryBudget) -> crate::Result<()> {
             summary,
             &[("limit surface", samples)],
             "mean curvature H",
+            None,
         );
         crate::report::html::write_html(path, &page)?;
     }

@@ -79,6 +79,34 @@ pub fn color_range(values: &[f64]) -> (f64, f64) {
     }
 }
 
+/// The q-quantile of the finite values among `values` (None when there are none).
+fn quantile(values: impl Iterator<Item = f64>, q: f64) -> Option<f64> {
+    let mut finite: Vec<f64> = values.filter(|v| v.is_finite()).collect();
+    if finite.is_empty() {
+        return None;
+    }
+    finite.sort_by(f64::total_cmp);
+    Some(finite[((finite.len() - 1) as f64 * q).round() as usize])
+}
+
+/// One colour range for a before/after pair (fairing) in which both pictures show
+/// structure: centred on the "after" values' median (the surface's typical value, white),
+/// half-width the after values' 98th-percentile deviation from it. The after picture then
+/// spans the colour map (a joint percentile range, dominated by the before values, left it
+/// uniformly pale); the before picture, on the same scale, is coloured where it is as
+/// smooth as the result and saturates where it deviates more — what fairing removed.
+pub fn paired_color_range(before: &[f64], after: &[f64]) -> (f64, f64) {
+    let Some(centre) = quantile(after.iter().copied(), 0.5) else {
+        return color_range(before);
+    };
+    let half = quantile(after.iter().map(|v| (v - centre).abs()), 0.98).unwrap_or(0.0);
+    if half > 0.0 {
+        (centre - half, centre + half)
+    } else {
+        (centre - 0.5, centre + 0.5)
+    }
+}
+
 /// Each vertex's pixel coordinates and depth, and the direction towards the viewer.
 type Projected = (Vec<(f64, f64, f64)>, [f64; 3]);
 
@@ -361,6 +389,31 @@ pub fn render_png(mesh: &PolygonMesh, path: &Path, options: &RenderOptions) -> R
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_paired_range_spans_the_after_values_and_saturates_the_before_values_beyond() {
+        // before: wide undulations; after: small ones about another level
+        let before: Vec<f64> = (0..1000)
+            .map(|i| -1.0 + 4.0 * ((i as f64) * 0.1).sin())
+            .collect();
+        let after: Vec<f64> = (0..1000)
+            .map(|i| -0.5 + 0.1 * ((i as f64) * 0.1).sin())
+            .collect();
+        let (lo, hi) = paired_color_range(&before, &after);
+        let median_after = {
+            let mut a = after.clone();
+            a.sort_by(f64::total_cmp);
+            a[500]
+        };
+        assert!((0.5 * (lo + hi) - median_after).abs() < 1e-12);
+        let inside = |v: &f64| (lo..=hi).contains(v);
+        assert!(after.iter().filter(|v| inside(v)).count() >= 980);
+        // the after values' extremes reach the map's ends: sin's amplitude 0.1 about −0.5
+        assert!((hi - lo - 0.2).abs() < 0.01, "[{lo}, {hi}]");
+        // the before picture: coloured where it is as smooth, saturated on both sides
+        assert!(before.iter().any(inside));
+        assert!(before.iter().any(|&v| v < lo) && before.iter().any(|&v| v > hi));
+    }
 
     #[test]
     fn colour_map_ends_and_middle() {

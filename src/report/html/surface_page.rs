@@ -8,19 +8,20 @@ use crate::mesh::PolygonMesh;
 use crate::report::{best_view, color_range, RenderOptions};
 
 /// A page of `panels` (name, sampled surface with per-vertex quality), all coloured under
-/// one range (the pictures' percentile range of all their values together) so that a
-/// before/after pair is compared colour for colour.
+/// one range — `range`, or the pictures' percentile range of all their values together —
+/// so that they are compared colour for colour.
 pub fn surface_page(
     title: &str,
     summary: Vec<(String, String)>,
     panels: &[(&str, &PolygonMesh)],
     quantity: &str,
+    range: Option<(f64, f64)>,
 ) -> HtmlPage {
     let values: Vec<f64> = panels
         .iter()
         .flat_map(|(_, m)| m.quality.iter().flatten().copied())
         .collect();
-    let range = color_range(&values);
+    let range = range.unwrap_or_else(|| color_range(&values));
     // The view the pictures would choose for the first surface under this range.
     let initial_view = panels.first().map_or((35.0, 30.0), |(_, mesh)| {
         best_view(
