@@ -47,7 +47,11 @@ pub use solvers::newton::{
 pub use solvers::pcg::{multiply, pcg, CgOutcome, CgStop};
 pub use solvers::schwarz::Schwarz;
 pub use surface::curvature_map::curvature_samples;
+pub use surface::g2::bernstein::{
+    bernstein_derivatives, COEFFICIENTS as SPECIAL_PATCH_COEFFICIENTS,
+};
 pub use surface::g2::division_curve::{bezier_derivatives, division_curve, Degree7};
+pub use surface::g2::domain_derivatives::InverseChainRule;
 pub use surface::g2::domain_net::{boundary_arcs, cubic_arc, subdominant_eigenvalue, DomainNet};
 pub use surface::quadrature::{gauss_legendre, MAX_NODES};
 pub use surface::representation::{
