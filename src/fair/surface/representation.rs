@@ -14,6 +14,19 @@ use crate::subdiv::{cubic_basis, limit_surface, PatchOptions, PatchSurface, Subd
 /// `p_u, p_v, p_uu, p_uv, p_vv, p_uuu, p_uuv, p_uvv, p_vvv`.
 pub const DERIVATIVES: usize = 9;
 
+/// (order in u, order in v) of each of the [`DERIVATIVES`], in their order.
+pub const DERIVATIVE_ORDERS: [(usize, usize); DERIVATIVES] = [
+    (1, 0),
+    (0, 1),
+    (2, 0),
+    (1, 1),
+    (0, 2),
+    (3, 0),
+    (2, 1),
+    (1, 2),
+    (0, 3),
+];
+
 /// One quadrature point: weights of the two terms of F (eq. 4) and the sparse rows of the
 /// linear map from control vertices to the nine derivatives.
 #[derive(Debug, Clone, PartialEq)]
@@ -218,17 +231,7 @@ impl PatchRepresentation {
                 options.c_ordinary
             };
             let in_s = patch.regular || options.end_caps == EndCaps::Include;
-            let orders: [(usize, usize); DERIVATIVES] = [
-                (1, 0),
-                (0, 1),
-                (2, 0),
-                (1, 1),
-                (0, 2),
-                (3, 0),
-                (2, 1),
-                (1, 2),
-                (0, 3),
-            ];
+            let orders = DERIVATIVE_ORDERS;
             for (a, &(_, wu)) in rule.iter().enumerate() {
                 for (b, &(_, wv)) in rule.iter().enumerate() {
                     let (bu, bv) = (&bases[a], &bases[b]);

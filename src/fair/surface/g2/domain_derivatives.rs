@@ -120,17 +120,7 @@ mod tests {
             }
             diff(&|s: f64| diff(&|t: f64| g(s, t), v, dv, h), u, du, h)
         };
-        let orders = [
-            (1, 0),
-            (0, 1),
-            (2, 0),
-            (1, 1),
-            (0, 2),
-            (3, 0),
-            (2, 1),
-            (1, 2),
-            (0, 3),
-        ];
+        let orders = crate::fair::surface::representation::DERIVATIVE_ORDERS;
         let pd: Derivatives = orders.map(|(a, b)| d(&p, a, b));
         let map: MapDerivatives = orders.map(|(a, b)| [d(&x, a, b), d(&y, a, b)]);
         let rule = InverseChainRule::new(map).unwrap();

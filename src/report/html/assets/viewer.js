@@ -173,31 +173,38 @@
     }
     return { p, u };
   }
-  function buffer(gl, target, array) {
+  function newBuffer(gl, target, array) {
     const b = gl.createBuffer();
     gl.bindBuffer(target, b);
     gl.bufferData(target, array, gl.STATIC_DRAW);
     return b;
   }
   // A vertex array of positions (and normals, colour coordinates when given), with an
-  // optional element buffer.
-  function vertexArray(gl, positions, normals, ts, elements) {
+  // optional element buffer; buffers it creates are listed in `owned` when given (so that
+  // a temporary overlay can free them).
+  function vertexArray(gl, positions, normals, ts, elements, owned) {
     const vao = gl.createVertexArray();
+    const buffer = (target, array) => {
+      if (array instanceof WebGLBuffer) return array; // shared with the mesh
+      const b = newBuffer(gl, target, array);
+      if (owned) owned.push(b);
+      return b;
+    };
     gl.bindVertexArray(vao);
-    gl.bindBuffer(gl.ARRAY_BUFFER, buffer(gl, gl.ARRAY_BUFFER, positions));
+    gl.bindBuffer(gl.ARRAY_BUFFER, buffer(gl.ARRAY_BUFFER, positions));
     gl.enableVertexAttribArray(0);
     gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 0, 0);
     if (normals) {
-      gl.bindBuffer(gl.ARRAY_BUFFER, buffer(gl, gl.ARRAY_BUFFER, normals));
+      gl.bindBuffer(gl.ARRAY_BUFFER, buffer(gl.ARRAY_BUFFER, normals));
       gl.enableVertexAttribArray(1);
       gl.vertexAttribPointer(1, 3, gl.FLOAT, false, 0, 0);
     } else gl.vertexAttrib3f(1, 0, 0, 1);
     if (ts) {
-      gl.bindBuffer(gl.ARRAY_BUFFER, buffer(gl, gl.ARRAY_BUFFER, ts));
+      gl.bindBuffer(gl.ARRAY_BUFFER, buffer(gl.ARRAY_BUFFER, ts));
       gl.enableVertexAttribArray(2);
       gl.vertexAttribPointer(2, 1, gl.FLOAT, false, 0, 0);
     } else gl.vertexAttrib1f(2, -1);
-    if (elements) buffer(gl, gl.ELEMENT_ARRAY_BUFFER, elements);
+    if (elements) buffer(gl.ELEMENT_ARRAY_BUFFER, elements);
     gl.bindVertexArray(null);
     return vao;
   }
@@ -228,7 +235,13 @@
       const span = range[1] - range[0] || 1;
       for (let i = 0; i < q.length; i++) ts[i] = Number.isFinite(q[i]) ? (q[i] - range[0]) / span : -1;
     }
-    const mesh = vertexArray(gl, positions, normals, ts, tri.triangles);
+    // the mesh's vertex buffers, shared by its highlights and the selection
+    const shared = {
+      positions: newBuffer(gl, gl.ARRAY_BUFFER, positions),
+      normals: normals ? newBuffer(gl, gl.ARRAY_BUFFER, normals) : null,
+      ts: ts ? newBuffer(gl, gl.ARRAY_BUFFER, ts) : null,
+    };
+    const mesh = vertexArray(gl, shared.positions, shared.normals, shared.ts, tri.triangles);
     const triangleCount = tri.triangles.length / 3;
     // While the camera moves, a view whose full frame took more than MOVING_BUDGET ms
     // draws every k-th triangle (k chosen from that time), and the whole mesh once it rests.
@@ -237,7 +250,7 @@
       const picked = new Uint32Array(3 * Math.ceil(triangleCount / step));
       let k = 0;
       for (let t = 0; t < triangleCount; t += step) { picked[k++] = tri.triangles[3 * t]; picked[k++] = tri.triangles[3 * t + 1]; picked[k++] = tri.triangles[3 * t + 2]; }
-      coarse = { vao: vertexArray(gl, positions, normals, ts, picked.subarray(0, k)), count: k, step };
+      coarse = { vao: vertexArray(gl, shared.positions, shared.normals, shared.ts, picked.subarray(0, k)), count: k, step };
     }
     const lut = gl.createTexture();
     gl.bindTexture(gl.TEXTURE_2D, lut);
@@ -253,7 +266,7 @@
     const overlay = (name, kind, colour, vao, count) => overlays.push({ name, kind, colour: colour.map((c) => c / 255), vao, count, visible: true });
     for (const h of spec.highlights) {
       const idx = facesToTriangles(u32(h.faces), tri, spec.mesh.faces);
-      overlay(h.name, "faces", h.colour, vertexArray(gl, positions, normals, null, idx), idx.length);
+      overlay(h.name, "faces", h.colour, vertexArray(gl, shared.positions, shared.normals, null, idx), idx.length);
     }
     for (const l of spec.lines) {
       const p = f32(l.segments);
@@ -265,6 +278,7 @@
       overlays[overlays.length - 1].size = pt.size;
     }
     let selection = [];
+    let selectionBuffers = [];
 
     function resize() {
       const dpr = window.devicePixelRatio || 1;
@@ -328,21 +342,25 @@
       gl.bindVertexArray(null);
     }
     function select(flaw) {
+      for (const o of selection) gl.deleteVertexArray(o.vao);
+      for (const b of selectionBuffers) gl.deleteBuffer(b);
       selection = [];
+      selectionBuffers = [];
       if (!flaw) return;
+      const owned = selectionBuffers;
       const yellow = [255, 216, 74].map((c) => c / 255);
       if (flaw.faces.length) {
         const idx = facesToTriangles(flaw.faces, tri, spec.mesh.faces);
-        selection.push({ kind: "faces", colour: yellow, vao: vertexArray(gl, positions, normals, null, idx), count: idx.length, visible: true });
+        selection.push({ kind: "faces", colour: yellow, vao: vertexArray(gl, shared.positions, shared.normals, null, idx, owned), count: idx.length, visible: true });
       }
       const vs = flaw.vertices.filter((v) => v < spec.mesh.vertices);
       const pts = new Float32Array(3 * vs.length);
       vs.forEach((v, i) => pts.set(positions.subarray(3 * v, 3 * v + 3), 3 * i));
-      selection.push({ kind: "points", colour: yellow, vao: vertexArray(gl, pts, null, null, null), count: vs.length, visible: true });
+      selection.push({ kind: "points", colour: yellow, vao: vertexArray(gl, pts, null, null, null, owned), count: vs.length, visible: true });
       if (flaw.closed_loop && vs.length > 2) {
         const seg = new Float32Array(6 * vs.length);
         vs.forEach((v, i) => { seg.set(positions.subarray(3 * v, 3 * v + 3), 6 * i); const w = vs[(i + 1) % vs.length]; seg.set(positions.subarray(3 * w, 3 * w + 3), 6 * i + 3); });
-        selection.push({ kind: "lines", colour: yellow, vao: vertexArray(gl, seg, null, null, null), count: 2 * vs.length, visible: true });
+        selection.push({ kind: "lines", colour: yellow, vao: vertexArray(gl, seg, null, null, null, owned), count: 2 * vs.length, visible: true });
       }
     }
     function setVisible(name, visible) { for (const o of overlays) if (o.name === name) o.visible = visible; }
