@@ -5,8 +5,8 @@
 //! The viewer is hand-written (`assets/viewer.js`, no third-party script): it draws one
 //! indexed triangle buffer per view with WebGL 2 (32-bit indices, flat or smooth shading, a
 //! colour map by per-vertex quality, isophotes and reflection lines in the fragment shader),
-//! which is all a report needs; three.js would add ~650 kB to every file and a bundler to
-//! the build, for the same single draw call per view.
+//! which is all a report needs; three.js would add its minified build (several hundred kB)
+//! to every file and a bundler to the build, for the same single draw call per view.
 //!
 //! - `page`: the page model (views, overlays, flaw list, colour bar, plot) and the writer;
 //! - `scene`: meshes and overlays as the compact arrays the viewer uploads;
