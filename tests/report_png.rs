@@ -137,6 +137,19 @@ fn the_colour_bar_is_labelled_with_the_quality_and_shows_its_colours() {
     assert!(lit, "title drawn");
 }
 
+/// Runs the CLI and asserts it succeeded (stderr in the message).
+fn run_surfkit(args: &[&std::ffi::OsStr]) {
+    let out = Command::new(env!("CARGO_BIN_EXE_surfkit"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 #[test]
 fn limit_writes_a_picture_whose_bar_matches_its_samples() {
     let dir = tempfile::tempdir().unwrap();
@@ -145,16 +158,12 @@ fn limit_writes_a_picture_whose_bar_matches_its_samples() {
         env!("CARGO_MANIFEST_DIR"),
         "/fixtures/meshes/catmark_torus.obj"
     );
-    let out = Command::new(env!("CARGO_BIN_EXE_surfkit"))
-        .args(["limit", input, "-o"])
-        .arg(&ply)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    run_surfkit(&[
+        "limit".as_ref(),
+        input.as_ref(),
+        "-o".as_ref(),
+        ply.as_os_str(),
+    ]);
     let samples = surfkit::mesh::io::read(&ply).unwrap();
     let picture = read_png(&ply.with_extension("png"));
     assert_eq!(picture.text("surfkit:quantity"), "mean curvature H");
@@ -236,17 +245,7 @@ fn the_automatic_view_turns_to_the_feature() {
 fn fair_figures_share_a_scale_on_which_the_faired_surface_shows_structure() {
     let dir = tempfile::tempdir().unwrap();
     let mesh = dir.path().join("tubes.obj");
-    let run = |args: &[&std::ffi::OsStr]| {
-        let out = Command::new(env!("CARGO_BIN_EXE_surfkit"))
-            .args(args)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-    };
+    let run = run_surfkit;
     run(&[
         "gen".as_ref(),
         "tubes".as_ref(),

@@ -169,8 +169,10 @@ pub(super) fn write_results(
     } else {
         PolygonMesh::default()
     };
-    let quality = |m: &PolygonMesh| m.quality.clone().unwrap_or_default();
-    let range = paired_color_range(&quality(&before_samples), &quality(&after_samples));
+    let range = paired_color_range(
+        before_samples.quality.as_deref().unwrap_or(&[]),
+        after_samples.quality.as_deref().unwrap_or(&[]),
+    );
     if let Some(request) = html {
         let mut page = surface_page(
             &request.title,

@@ -168,12 +168,8 @@ pub fn run(args: &LimitArgs, memory: MemoryBudget) -> crate::Result<()> {
         );
         crate::report::html::write_html(path, &page)?;
     }
-    let h = samples.quality.as_deref().unwrap_or(&[]);
-    let (lo, hi) = h
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-            (a.min(x), b.max(x))
-        });
+    let (lo, hi) = crate::report::finite_extent(samples.quality.as_deref().unwrap_or(&[]))
+        .unwrap_or((f64::INFINITY, f64::NEG_INFINITY));
     if args.json {
         let report = serde_json::json!({
             "input": args.input, "output": args.output, "picture": png, "html": args.html,

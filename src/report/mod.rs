@@ -9,6 +9,6 @@ mod render;
 pub use annotate::{colour_bar_box, colour_of, label};
 pub use figures::write_figures;
 pub use render::{
-    best_view, color_range, diverging_color, paired_color_range, render_png, render_rgb,
-    RenderOptions, BACKGROUND,
+    best_view, color_range, diverging_color, finite_extent, paired_color_range, render_png,
+    render_rgb, RenderOptions, BACKGROUND,
 };

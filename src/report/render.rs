@@ -60,15 +60,36 @@ pub fn diverging_color(t: f64) -> [f64; 3] {
     }
 }
 
+/// The finite values among `values`, sorted (for quantiles).
+fn sorted_finite(values: impl Iterator<Item = f64>) -> Vec<f64> {
+    let mut finite: Vec<f64> = values.filter(|v| v.is_finite()).collect();
+    finite.sort_by(f64::total_cmp);
+    finite
+}
+
+/// The q-quantile of sorted values (nearest rank); None when there are none.
+fn quantile(sorted: &[f64], q: f64) -> Option<f64> {
+    (!sorted.is_empty()).then(|| sorted[((sorted.len() - 1) as f64 * q).round() as usize])
+}
+
+/// The smallest and largest finite values (what a colour bar's ends are labelled with);
+/// None when there are none.
+pub fn finite_extent(values: &[f64]) -> Option<(f64, f64)> {
+    values
+        .iter()
+        .copied()
+        .filter(|q| q.is_finite())
+        .fold(None, |m: Option<(f64, f64)>, q| {
+            Some(m.map_or((q, q), |(lo, hi)| (lo.min(q), hi.max(q))))
+        })
+}
+
 /// The value range used for colouring (see [`RenderOptions::range`]).
 pub fn color_range(values: &[f64]) -> (f64, f64) {
-    let mut finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
-    if finite.is_empty() {
+    let finite = sorted_finite(values.iter().copied());
+    let (Some(lo), Some(hi)) = (quantile(&finite, 0.02), quantile(&finite, 0.98)) else {
         return (0.0, 1.0);
-    }
-    finite.sort_by(f64::total_cmp);
-    let at = |q: f64| finite[((finite.len() - 1) as f64 * q).round() as usize];
-    let (lo, hi) = (at(0.02), at(0.98));
+    };
     if lo < 0.0 && hi > 0.0 {
         let m = lo.abs().max(hi);
         (-m, m)
@@ -79,16 +100,6 @@ pub fn color_range(values: &[f64]) -> (f64, f64) {
     }
 }
 
-/// The q-quantile of the finite values among `values` (None when there are none).
-fn quantile(values: impl Iterator<Item = f64>, q: f64) -> Option<f64> {
-    let mut finite: Vec<f64> = values.filter(|v| v.is_finite()).collect();
-    if finite.is_empty() {
-        return None;
-    }
-    finite.sort_by(f64::total_cmp);
-    Some(finite[((finite.len() - 1) as f64 * q).round() as usize])
-}
-
 /// One colour range for a before/after pair (fairing) in which both pictures show
 /// structure: centred on the "after" values' median (the surface's typical value, white),
 /// half-width the after values' 98th-percentile deviation from it. The after picture then
@@ -96,10 +107,11 @@ fn quantile(values: impl Iterator<Item = f64>, q: f64) -> Option<f64> {
 /// uniformly pale); the before picture, on the same scale, is coloured where it is as
 /// smooth as the result and saturates where it deviates more — what fairing removed.
 pub fn paired_color_range(before: &[f64], after: &[f64]) -> (f64, f64) {
-    let Some(centre) = quantile(after.iter().copied(), 0.5) else {
+    let Some(centre) = quantile(&sorted_finite(after.iter().copied()), 0.5) else {
         return color_range(before);
     };
-    let half = quantile(after.iter().map(|v| (v - centre).abs()), 0.98).unwrap_or(0.0);
+    let deviations = sorted_finite(after.iter().map(|v| (v - centre).abs()));
+    let half = quantile(&deviations, 0.98).unwrap_or(0.0);
     if half > 0.0 {
         (centre - half, centre + half)
     } else {
@@ -338,15 +350,7 @@ pub fn render_png(mesh: &PolygonMesh, path: &Path, options: &RenderOptions) -> R
         );
         texts.push(("Title", title.clone()));
     }
-    let finite = mesh
-        .quality
-        .iter()
-        .flatten()
-        .copied()
-        .filter(|q| q.is_finite());
-    let extent = finite.fold(None, |m: Option<(f64, f64)>, q| {
-        Some(m.map_or((q, q), |(lo, hi)| (lo.min(q), hi.max(q))))
-    });
+    let extent = finite_extent(mesh.quality.as_deref().unwrap_or(&[]));
     if let (Some(range), Some(extent)) = (options.range, extent) {
         let quantity = options.quantity.as_deref().unwrap_or("quality");
         draw_colour_bar(

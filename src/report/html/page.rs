@@ -8,7 +8,7 @@ use serde::Serialize;
 use super::scene::View;
 use crate::error::Result;
 use crate::mesh::io::write_atomically;
-use crate::report::colour_of;
+use crate::report::{colour_of, finite_extent};
 
 const TEMPLATE: &str = include_str!("assets/page.html");
 const STYLE: &str = include_str!("assets/viewer.css");
@@ -41,13 +41,8 @@ pub struct ColourBar {
 impl ColourBar {
     /// The bar of `values` (non-finite ones skipped) coloured under `range`.
     pub fn new(quantity: &str, values: &[f64], range: (f64, f64)) -> Option<Self> {
-        let (min, max) = values
-            .iter()
-            .filter(|v| v.is_finite())
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-                (a.min(v), b.max(v))
-            });
-        (min <= max).then(|| ColourBar {
+        let (min, max) = finite_extent(values)?;
+        Some(ColourBar {
             quantity: quantity.to_string(),
             min,
             max,

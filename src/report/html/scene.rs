@@ -80,6 +80,11 @@ pub(super) fn u32_base64(values: impl Iterator<Item = u32>) -> String {
     STANDARD.encode(bytes)
 }
 
+/// Points less `origin`, as base64 `f32`.
+fn relative_positions<'a>(points: impl Iterator<Item = &'a [f64; 3]>, origin: [f64; 3]) -> String {
+    f32_base64(points.flat_map(|p| [0, 1, 2].map(|i| (p[i] - origin[i]) as f32)))
+}
+
 impl View {
     /// The view of `mesh` (its quality, when it has one, colours it), with no overlay yet.
     pub fn new(name: &str, mesh: &PolygonMesh) -> Self {
@@ -91,21 +96,20 @@ impl View {
             }
             None => ([0.0; 3], 1.0),
         };
-        let arities = mesh.face_offsets.windows(2).map(|w| w[1] - w[0]);
-        let uniform = {
-            let mut it = arities.clone();
-            it.next()
-                .filter(|&first| it.all(|a| a == first))
-                .or(Some(3).filter(|_| mesh.face_count() == 0))
+        // one arity for all faces (an empty mesh counts as triangles): no offsets needed
+        let mut arities = mesh.face_offsets.windows(2).map(|w| w[1] - w[0]);
+        let uniform = match arities.next() {
+            Some(first) => arities.all(|a| a == first).then_some(first),
+            None => Some(3),
         };
-        let view = View {
+        View {
             name: name.to_string(),
             origin,
             radius: if radius > 0.0 { radius } else { 1.0 },
             mesh: MeshData {
                 vertices: mesh.vertex_count(),
                 faces: mesh.face_count(),
-                positions: String::new(),
+                positions: relative_positions(mesh.positions.iter(), origin),
                 arity: uniform,
                 offsets: uniform
                     .is_none()
@@ -119,20 +123,12 @@ impl View {
             highlights: Vec::new(),
             lines: Vec::new(),
             points: Vec::new(),
-        };
-        let positions = view.local_positions(mesh.positions.iter());
-        View {
-            mesh: MeshData {
-                positions,
-                ..view.mesh
-            },
-            ..view
         }
     }
 
     /// Points in the view's coordinates (less its origin), as base64 `f32`.
     pub fn local_positions<'a>(&self, points: impl Iterator<Item = &'a [f64; 3]>) -> String {
-        f32_base64(points.flat_map(|p| [0, 1, 2].map(|i| (p[i] - self.origin[i]) as f32)))
+        relative_positions(points, self.origin)
     }
 
     /// A point in the view's coordinates.
