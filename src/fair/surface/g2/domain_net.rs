@@ -33,7 +33,7 @@ fn slot(k: usize, sector: usize, a: i32, b: i32) -> usize {
 /// sectors round it (the centre for (0, 0)): across spoke i, sector i's (a, −b) is sector
 /// i−1's (b, a); across spoke i+1, sector i's (−a, b) is sector i+1's (b, a) — applied
 /// until the point is a sector's own, so (−1, 0) is two sectors on.
-fn index(k: usize, sector: usize, a: i32, b: i32) -> usize {
+pub(crate) fn index(k: usize, sector: usize, a: i32, b: i32) -> usize {
     let (mut s, mut a, mut b) = (sector % k, a, b);
     for _ in 0..4 {
         match (a, b) {
@@ -228,6 +228,12 @@ impl DomainNet {
     /// Sector `sector`'s lattice point (a, b) (the net's or a neighbouring sector's).
     pub fn point(&self, sector: usize, a: i32, b: i32) -> [f64; 2] {
         self.points[index(self.valence, sector, a, b)]
+    }
+
+    /// Index in [`DomainNet::points`] of sector `sector`'s lattice point (a, b) (the net's
+    /// or a neighbouring sector's; a, b ≤ 3).
+    pub fn vertex(&self, sector: usize, a: i32, b: i32) -> usize {
+        index(self.valence, sector, a, b)
     }
 
     /// The net's 9k quads, counter-clockwise (sector by sector, faces [a, a+1] × [b, b+1]).

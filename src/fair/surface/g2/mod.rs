@@ -1,12 +1,20 @@
 //! Kiciak's curvature-continuous surface (paper §3): bicubic B-spline patches for ordinary
 //! elements and, for each special element (the Sabin net round a vertex of valence k ≠ 4),
-//! k polynomial patches of degree (9, 9) over a planar domain Ω_k. Built so far: the domain
-//! net and Ω_k's boundary and area ([`domain_net`]), the curves that divide Ω_k into the k
-//! patch domains ([`division_curve`]), the degree-9 Bernstein basis with its derivatives
-//! ([`bernstein`]) and the inverse chain rule that turns a patch's parametric derivatives
-//! into derivatives in Ω_k's coordinates through a domain patch ([`domain_derivatives`]).
+//! k polynomial patches of degree (9, 9) over a planar domain Ω_k. [`domain_net`] (the
+//! eigen-net, Ω_k's border and area), [`division_curve`] (the curves dividing Ω_k into the
+//! k patch domains), [`sides`] (how a patch is joined along its four sides),
+//! [`auxiliary`] (the patches along the division curves), [`junction`] (the domain patches
+//! δ_s and the junction functions), [`space`] (the C² space V as linear conditions),
+//! [`patch_matrix`] (the Ritz basis per valence), [`domain_derivatives`] (the inverse chain rule through
+//! δ), [`polynomial`] and [`bernstein`] (Bernstein forms).
 
+pub(crate) mod auxiliary;
 pub(crate) mod bernstein;
 pub(crate) mod division_curve;
 pub(crate) mod domain_derivatives;
 pub(crate) mod domain_net;
+pub(crate) mod junction;
+pub(crate) mod patch_matrix;
+pub(crate) mod polynomial;
+pub(crate) mod sides;
+pub(crate) mod space;
