@@ -234,3 +234,32 @@ fn the_surface_of_any_sabin_net_is_curvature_continuous() {
         assert!(spread < 1e-8 * (1.0 + centre[0].abs()), "k {k}: {centre:?}");
     }
 }
+
+#[test]
+fn the_domain_patches_are_regular_with_the_authors_jacobian_range() {
+    // The notes (`../shared/notes/kiciak-g2-construction.md`), from the author's program:
+    // after scaling Ω_k to area k, det Dδ ∈ [0.34, 1.75] for all k ≤ 16.
+    let (mut low, mut high) = (f64::INFINITY, 0.0f64);
+    for k in (3..=16).filter(|&k| k != 4) {
+        let net = DomainNet::new(k);
+        let domain = surfkit::fair::sector_domain(&net, 0).unwrap();
+        let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+        for i in 0..=40 {
+            for j in 0..=40 {
+                let (u, v) = (i as f64 / 40.0, j as f64 / 40.0);
+                let d = surfkit::fair::map_derivatives(&domain, u, v);
+                let det = d[0][0] * d[1][1] - d[0][1] * d[1][0];
+                lo = lo.min(det);
+                hi = hi.max(det);
+            }
+        }
+        println!("k = {k}: det Dδ ∈ [{lo:.3}, {hi:.3}]");
+        low = low.min(lo);
+        high = high.max(hi);
+    }
+    println!("all k: det Dδ ∈ [{low:.3}, {high:.3}]");
+    assert!(
+        (low - 0.34).abs() < 0.005 && (high - 1.75).abs() < 0.005,
+        "[{low}, {high}]"
+    );
+}

@@ -53,10 +53,13 @@ pub use surface::g2::bernstein::{
 pub use surface::g2::division_curve::{bezier_derivatives, division_curve, Degree7};
 pub use surface::g2::domain_derivatives::InverseChainRule;
 pub use surface::g2::domain_net::{boundary_arcs, cubic_arc, subdominant_eigenvalue, DomainNet};
-pub use surface::g2::junction::{Junction, SectorDomain};
+pub use surface::g2::junction::{sector_domain, Junction, SectorDomain};
 pub use surface::g2::patch_matrix::{
     map_derivatives, patch_derivatives, PatchMatrix, MAX_SPECIAL_VALENCE,
 };
+pub use surface::g2::representation::G2Representation;
+pub use surface::g2::sabin_net::SabinNet;
+pub use surface::g2::surface::{FacePatch, G2Surface};
 pub use surface::quadrature::{gauss_legendre, MAX_NODES};
 pub use surface::representation::{
     EndCaps, PatchRepresentation, QDomain, QuadraturePoint, Representation, RepresentationOptions,

@@ -210,7 +210,6 @@ impl PatchRepresentation {
             .map(|f| f.iter().any(|&v| special[v as usize]))
             .collect();
         let element_count = internal.iter().filter(|&&b| b).count();
-        let bases: Vec<[[f64; 4]; 4]> = rule.iter().map(|&(x, _)| cubic_basis(x)).collect();
         let mut points = Vec::new();
         for (p, patch) in surface.patches().iter().enumerate() {
             let f = patch.base_face as usize;
@@ -218,9 +217,6 @@ impl PatchRepresentation {
                 continue;
             }
             let rows = surface.patch_weights(p)?;
-            let mut vertices: Vec<u32> = rows.iter().flatten().map(|&(v, _)| v).collect();
-            vertices.sort_unstable();
-            vertices.dedup();
             let h = match options.q_domain {
                 QDomain::Patch => 1.0,
                 QDomain::Face => patch.size,
@@ -231,39 +227,57 @@ impl PatchRepresentation {
                 options.c_ordinary
             };
             let in_s = patch.regular || options.end_caps == EndCaps::Include;
-            let orders = DERIVATIVE_ORDERS;
-            for (a, &(_, wu)) in rule.iter().enumerate() {
-                for (b, &(_, wv)) in rule.iter().enumerate() {
-                    let (bu, bv) = (&bases[a], &bases[b]);
-                    let mut coefficients = vec![[0.0; DERIVATIVES]; vertices.len()];
-                    for (k, row) in rows.iter().enumerate() {
-                        let (i, j) = (k / 4, k % 4);
-                        let mut d = [0.0; DERIVATIVES];
-                        for (slot, &(ou, ov)) in orders.iter().enumerate() {
-                            d[slot] = bu[ou][j] * bv[ov][i] * h.powi(-((ou + ov) as i32));
-                        }
-                        for &(v, w) in row {
-                            let at = vertices.binary_search(&v).unwrap_or(0);
-                            for s in 0..DERIVATIVES {
-                                coefficients[at][s] += w * d[s];
-                            }
-                        }
-                    }
-                    let area = wu * wv * h * h;
-                    points.push(QuadraturePoint {
-                        weight_s: if in_s { area } else { 0.0 },
-                        weight_q: area * c,
-                        vertices: vertices.clone(),
-                        coefficients,
-                    });
-                }
-            }
+            push_bicubic_points(&mut points, &rows, &rule, h, in_s, c);
         }
         Ok(PatchRepresentation {
             vertex_count: mesh.vertex_count(),
             element_count,
             points,
         })
+    }
+}
+
+/// Appends the quadrature points of one bicubic B-spline patch (its 16 control points'
+/// vertex weights `rows`, row-major with u along a row) under `rule` per direction;
+/// derivatives scaled to a domain of size `h` (see [`QDomain`]), S integrated if `in_s`, Q
+/// weighted by `c`.
+pub(crate) fn push_bicubic_points(
+    points: &mut Vec<QuadraturePoint>,
+    rows: &[Vec<(u32, f64)>; 16],
+    rule: &[(f64, f64)],
+    h: f64,
+    in_s: bool,
+    c: f64,
+) {
+    let mut vertices: Vec<u32> = rows.iter().flatten().map(|&(v, _)| v).collect();
+    vertices.sort_unstable();
+    vertices.dedup();
+    let bases: Vec<[[f64; 4]; 4]> = rule.iter().map(|&(x, _)| cubic_basis(x)).collect();
+    for (a, &(_, wu)) in rule.iter().enumerate() {
+        for (b, &(_, wv)) in rule.iter().enumerate() {
+            let (bu, bv) = (&bases[a], &bases[b]);
+            let mut coefficients = vec![[0.0; DERIVATIVES]; vertices.len()];
+            for (k, row) in rows.iter().enumerate() {
+                let (i, j) = (k / 4, k % 4);
+                let mut d = [0.0; DERIVATIVES];
+                for (slot, &(ou, ov)) in DERIVATIVE_ORDERS.iter().enumerate() {
+                    d[slot] = bu[ou][j] * bv[ov][i] * h.powi(-((ou + ov) as i32));
+                }
+                for &(v, w) in row {
+                    let at = vertices.binary_search(&v).unwrap_or(0);
+                    for s in 0..DERIVATIVES {
+                        coefficients[at][s] += w * d[s];
+                    }
+                }
+            }
+            let area = wu * wv * h * h;
+            points.push(QuadraturePoint {
+                weight_s: if in_s { area } else { 0.0 },
+                weight_q: area * c,
+                vertices: vertices.clone(),
+                coefficients,
+            });
+        }
     }
 }
 

@@ -5,7 +5,9 @@
 //! k patch domains), [`sides`] (how a patch is joined along its four sides),
 //! [`auxiliary`] (the patches along the division curves), [`junction`] (the domain patches
 //! δ_s and the junction functions), [`space`] (the C² space V as linear conditions),
-//! [`patch_matrix`] (the Ritz basis per valence), [`domain_derivatives`] (the inverse chain rule through
+//! [`patch_matrix`] (the Ritz basis per valence), [`sabin_net`] (a special vertex's net in a
+//! mesh), [`surface`] (the whole surface, face by face), [`representation`] (its
+//! quadrature rows for the optimizer), [`domain_derivatives`] (the inverse chain rule through
 //! δ), [`polynomial`] and [`bernstein`] (Bernstein forms).
 
 pub(crate) mod auxiliary;
@@ -16,5 +18,8 @@ pub(crate) mod domain_net;
 pub(crate) mod junction;
 pub(crate) mod patch_matrix;
 pub(crate) mod polynomial;
+pub(crate) mod representation;
+pub(crate) mod sabin_net;
 pub(crate) mod sides;
 pub(crate) mod space;
+pub(crate) mod surface;

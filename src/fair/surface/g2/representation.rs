@@ -1,0 +1,153 @@
+//! Kiciak's curvature-continuous surface as the optimizer sees it ([`Representation`]):
+//! every face off the special vertices is the bicubic B-spline patch of its 4 × 4 net (an
+//! ordinary element); the k faces round a special vertex are one special element, k
+//! degree-(9, 9) patches given by the valence's patch matrix applied to the Sabin net.
+//! At a special patch's quadrature points the derivatives are taken in Ω_k's coordinates
+//! (through δ_s, weight |det Dδ_s|), where the paper integrates S and Q; S does not depend
+//! on the parameterization, Q does.
+
+use super::bernstein::{bernstein_derivatives, COEFFICIENTS, ORDER};
+use super::domain_derivatives::InverseChainRule;
+use super::patch_matrix::{map_derivatives, PatchMatrix, ORDERS};
+use super::sabin_net::SabinNet;
+use super::surface::{FacePatch, G2Surface};
+use crate::error::{Error, Result};
+use crate::fair::surface::quadrature::gauss_legendre;
+use crate::fair::surface::representation::{
+    push_bicubic_points, QuadraturePoint, Representation, RepresentationOptions, DERIVATIVES,
+};
+use crate::mesh::PolygonMesh;
+
+/// The G² surface's quadrature rows.
+pub struct G2Representation {
+    vertex_count: usize,
+    element_count: usize,
+    points: Vec<QuadraturePoint>,
+    /// The surface the rows describe.
+    pub surface: G2Surface,
+}
+
+/// Appends the quadrature points of sector `s`'s patch of the special element `net`.
+fn push_special_points(
+    points: &mut Vec<QuadraturePoint>,
+    basis: &PatchMatrix,
+    net: &SabinNet,
+    s: usize,
+    rule: &[(f64, f64)],
+    c: f64,
+) -> Result<()> {
+    // (net index, mesh vertex) of the columns the surface depends on, sorted by vertex
+    let mut columns: Vec<(usize, u32)> = net
+        .vertices
+        .iter()
+        .enumerate()
+        .filter_map(|(i, v)| v.map(|v| (i, v)))
+        .collect();
+    columns.sort_unstable_by_key(|&(_, v)| v);
+    let vertices: Vec<u32> = columns.iter().map(|&(_, v)| v).collect();
+    let domain = &basis.sectors[s];
+    for &(u, wu) in rule {
+        for &(v, wv) in rule {
+            let chain = InverseChainRule::new(map_derivatives(domain, u, v)).ok_or_else(|| {
+                Error::InvalidInput(format!(
+                    "valence {}: domain patch {s} is singular at ({u}, {v})",
+                    basis.k
+                ))
+            })?;
+            let (bu, bv) = (bernstein_derivatives(u), bernstein_derivatives(v));
+            // derivatives in Ω_k's coordinates of each Bézier basis function
+            let rows: Vec<[f64; DERIVATIVES]> = (0..COEFFICIENTS)
+                .map(|i| {
+                    let (a, b) = (i / ORDER, i % ORDER);
+                    chain.apply(&ORDERS.map(|(ru, rv)| bu[ru][a] * bv[rv][b]))
+                })
+                .collect();
+            let coefficients = columns
+                .iter()
+                .map(|&(column, _)| {
+                    let mut d = [0.0; DERIVATIVES];
+                    for (i, row) in rows.iter().enumerate() {
+                        let m = basis.matrix[(s * COEFFICIENTS + i, column)];
+                        if m != 0.0 {
+                            for (x, r) in d.iter_mut().zip(row) {
+                                *x += m * r;
+                            }
+                        }
+                    }
+                    d
+                })
+                .collect();
+            let area = wu * wv * chain.jacobian;
+            points.push(QuadraturePoint {
+                weight_s: area,
+                weight_q: area * c,
+                vertices: vertices.clone(),
+                coefficients,
+            });
+        }
+    }
+    Ok(())
+}
+
+impl G2Representation {
+    /// Builds the rows of `mesh`'s G² surface ([`G2Surface`]). Elements are the internal
+    /// quads (all corners off the boundary), as for the Catmull–Clark surface; a special
+    /// element counts as its k faces. `options.nodes` Gauss–Legendre nodes per direction on
+    /// every patch; Q weighted by `c_ordinary` on ordinary elements and `c_special` on
+    /// special ones (`isolation`, `end_caps` and `q_domain` do not apply).
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for a bad option; errors of [`G2Surface::new`].
+    pub fn new(
+        mesh: &PolygonMesh,
+        boundary: &[bool],
+        special: &[bool],
+        options: &RepresentationOptions,
+    ) -> Result<Self> {
+        let c_ok = |c: f64| c.is_finite() && c > 0.0;
+        if !c_ok(options.c_ordinary) || !c_ok(options.c_special) {
+            return Err(Error::InvalidInput(format!(
+                "Cᵢ must be positive and finite (ordinary {}, special {})",
+                options.c_ordinary, options.c_special
+            )));
+        }
+        let rule = gauss_legendre(options.nodes)?;
+        let surface = G2Surface::new(mesh, boundary, special, options.memory)?;
+        let mut points = Vec::new();
+        let mut element_count = 0;
+        for patch in surface.faces.iter().flatten() {
+            element_count += 1;
+            match patch {
+                FacePatch::Bicubic(rows) => {
+                    push_bicubic_points(&mut points, rows, &rule, 1.0, true, options.c_ordinary);
+                }
+                FacePatch::Special { element, sector } => push_special_points(
+                    &mut points,
+                    &surface.bases[*element],
+                    &surface.special_elements[*element],
+                    *sector,
+                    &rule,
+                    options.c_special,
+                )?,
+            }
+        }
+        Ok(G2Representation {
+            vertex_count: mesh.vertex_count(),
+            element_count,
+            points,
+            surface,
+        })
+    }
+}
+
+impl Representation for G2Representation {
+    fn vertex_count(&self) -> usize {
+        self.vertex_count
+    }
+    fn points(&self) -> &[QuadraturePoint] {
+        &self.points
+    }
+    fn element_count(&self) -> usize {
+        self.element_count
+    }
+}
