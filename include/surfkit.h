@@ -21,6 +21,16 @@
 #include <stdint.h>
 
 /*
+ `SurfkitFairOptions::surface`: Kiciak's curvature-continuous surface (the default).
+ */
+#define SURFKIT_SURFACE_G2 0
+
+/*
+ `SurfkitFairOptions::surface`: the Catmull–Clark limit surface.
+ */
+#define SURFKIT_SURFACE_CATMULL_CLARK 1
+
+/*
  Biquadratic C¹ B-splines (2022).
  */
 #define SURFKIT_SPACE_BIQUADRATIC 0
@@ -317,12 +327,18 @@ typedef struct SurfkitFairOptions {
   double relative_gradient;
   uint32_t max_iterations;
   /*
-   OpenSubdiv's isolation level and Gauss–Legendre nodes per direction per patch.
+   The surface: [`SURFKIT_SURFACE_G2`] or [`SURFKIT_SURFACE_CATMULL_CLARK`].
+   */
+  int surface;
+  /*
+   OpenSubdiv's isolation level (Catmull–Clark surface) and Gauss–Legendre nodes per
+   direction per patch.
    */
   uint32_t isolation;
   uint32_t nodes;
   /*
-   Cᵢ of the faces at special vertices (eq. 5).
+   Cᵢ of the faces at special vertices (eq. 5); the default suits the G² surface (1);
+   `surfkit fair --surface catmull-clark` uses 0.01.
    */
   double c_special;
   /*
@@ -342,6 +358,10 @@ typedef struct SurfkitFairOptions {
  What a run did.
  */
 typedef struct SurfkitFairSummary {
+  /*
+   The surface optimized ([`SURFKIT_SURFACE_G2`] or [`SURFKIT_SURFACE_CATMULL_CLARK`]).
+   */
+  int surface;
   int converged;
   int cancelled;
   /*

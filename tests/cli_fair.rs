@@ -93,6 +93,7 @@ fn fair_writes_mesh_samples_and_figures() {
         .arg("--figures")
         .arg(&figures)
         .args(["--max-refinements", "0", "--json"])
+        .args(["--surface", "catmull-clark"])
         .output()
         .unwrap();
     assert!(
@@ -240,6 +241,7 @@ fn fair_fixed_from_a_meshlab_selection() {
         .arg("--fixed")
         .arg(&selection)
         .args(["--max-refinements", "0", "--json"])
+        .args(["--surface", "catmull-clark"])
         .output()
         .unwrap();
     assert!(
@@ -418,7 +420,15 @@ fn cli_fair_levels_write_the_finest_level() {
     write(&input, &coarse, &Default::default()).unwrap();
     let output = dir.path().join("fine.ply");
     let run = surfkit()
-        .args(["fair", "--levels", "1", "--json", "-o"])
+        .args([
+            "fair",
+            "--surface",
+            "catmull-clark",
+            "--levels",
+            "1",
+            "--json",
+            "-o",
+        ])
         .arg(&output)
         .arg(&input)
         .output()
@@ -456,7 +466,7 @@ fn fair_exit_status_says_whether_it_converged() {
             .arg(&input)
             .arg("-o")
             .arg(&out)
-            .args(["--quiet", "--json"])
+            .args(["--quiet", "--json", "--surface", "catmull-clark"])
             .args(extra)
             .output()
             .unwrap();

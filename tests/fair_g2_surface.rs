@@ -83,7 +83,10 @@ fn s_of_the_authors_mesh_matches_his_program() {
         assert!((s - total).abs() < 1e-4, "S = {s} against {total}");
         if let Some(want) = special_part {
             // the goal is 1 %; agreement is to the printed digits
-            assert!((s_special - want).abs() < 1e-4, "{s_special} against {want}");
+            assert!(
+                (s_special - want).abs() < 1e-4,
+                "{s_special} against {want}"
+            );
         }
     }
 }

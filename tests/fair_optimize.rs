@@ -10,14 +10,14 @@ mod common;
 
 use surfkit::fair::{
     fixed_vertices, optimize, optimize_levels, refine_surface, sector_disc, tubes, FairOptions,
-    Functional, LmMatrix, MeshTopology, PatchRepresentation, RepresentationOptions, StepKind,
+    Functional, LmMatrix, MeshTopology, RepresentationOptions, StepKind, SurfaceRepresentation,
 };
 
 fn statistics(mesh: &surfkit::mesh::PolygonMesh, options: &RepresentationOptions) -> (f64, f64) {
     let topo = MeshTopology::new(mesh).unwrap();
     let fixed = fixed_vertices(&topo, 3, &[]).unwrap();
     let special = topo.special_flags();
-    let rep = PatchRepresentation::new(mesh, &topo.boundary, &special, options).unwrap();
+    let rep = SurfaceRepresentation::new(mesh, &topo.boundary, &special, options).unwrap();
     let f = Functional::new(&rep, &fixed, 1.0);
     let s = f.value(&mesh.positions).s;
     (s, f.mean_curvature_statistics(&mesh.positions).1)
@@ -284,7 +284,7 @@ fn fair_optimize_regularization_weights_q_by_c_times_c() {
     let fixed = fixed_vertices(&topo, 3, &[]).unwrap();
     let special = topo.special_flags();
     let options = RepresentationOptions::default();
-    let rep = PatchRepresentation::new(&mesh, &topo.boundary, &special, &options).unwrap();
+    let rep = SurfaceRepresentation::new(&mesh, &topo.boundary, &special, &options).unwrap();
     let functional = Functional::new(&rep, &fixed, 0.01 * author.c);
     let norm = |g: &[f64]| g.iter().map(|x| x * x).sum::<f64>().sqrt();
     let (start, g0) = functional.gradient(&mesh.positions);

@@ -5,7 +5,7 @@ mod common;
 
 use surfkit::error::Error;
 use surfkit::fair::{
-    condition_violation, fixed_vertices, optimize, prepare, FairOptions, MeshTopology,
+    condition_violation, fixed_vertices, optimize, prepare, FairOptions, MeshTopology, SurfaceKind,
 };
 use surfkit::mesh::PolygonMesh;
 
@@ -14,14 +14,22 @@ fn fair_prepare_cube_needs_one_level_and_keeps_chi() {
     let mesh = common::unit_cube();
     let topo = MeshTopology::new(&mesh).unwrap();
     assert_eq!(topo.euler_characteristic(), 2);
-    assert!(condition_violation(&mesh, &topo).is_some());
-    let (refined, levels) = prepare(&mesh, 3).unwrap();
+    assert!(condition_violation(&mesh, &topo, SurfaceKind::CatmullClark).is_some());
+    let (refined, levels) = prepare(&mesh, 3, SurfaceKind::CatmullClark).unwrap();
     assert_eq!(levels, 1);
     // V + E + F of the cube.
     assert_eq!(refined.vertex_count(), 8 + 12 + 6);
     let t = MeshTopology::new(&refined).unwrap();
     assert_eq!(t.euler_characteristic(), 2);
-    assert!(condition_violation(&refined, &t).is_none());
+    assert!(condition_violation(&refined, &t, SurfaceKind::CatmullClark).is_none());
+    // Kiciak's G² surface needs each corner's radius-2 Sabin net on its own: after one
+    // refinement the corners are two edges apart and their nets overlap; after two, four.
+    let why = condition_violation(&refined, &t, SurfaceKind::G2).unwrap();
+    assert!(why.contains("special vertex"), "{why}");
+    let (twice, levels) = prepare(&mesh, 3, SurfaceKind::G2).unwrap();
+    assert_eq!(levels, 2);
+    let t = MeshTopology::new(&twice).unwrap();
+    assert!(condition_violation(&twice, &t, SurfaceKind::G2).is_none());
 }
 
 #[test]
@@ -37,7 +45,7 @@ fn fair_prepare_triangles_become_quads() {
         ],
         &[[0u32, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]],
     );
-    let (refined, levels) = prepare(&mesh, 3).unwrap();
+    let (refined, levels) = prepare(&mesh, 3, SurfaceKind::G2).unwrap();
     assert!(levels >= 1);
     assert!(refined.faces().all(|f| f.len() == 4));
     assert_eq!(
@@ -49,14 +57,14 @@ fn fair_prepare_triangles_become_quads() {
 #[test]
 fn fair_prepare_too_few_levels_is_a_topology_error() {
     assert!(matches!(
-        prepare(&common::unit_cube(), 0),
+        prepare(&common::unit_cube(), 0, SurfaceKind::G2),
         Err(Error::Topology(_))
     ));
 }
 
 #[test]
 fn fair_closed_mesh_with_nothing_fixed_is_an_error() {
-    let (refined, _) = prepare(&common::unit_cube(), 2).unwrap();
+    let (refined, _) = prepare(&common::unit_cube(), 2, SurfaceKind::G2).unwrap();
     let topo = MeshTopology::new(&refined).unwrap();
     match fixed_vertices(&topo, 3, &[]) {
         Err(Error::InvalidInput(m)) => assert!(m.contains("closed"), "{m}"),

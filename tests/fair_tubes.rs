@@ -8,7 +8,7 @@ mod common;
 use std::collections::{HashMap, HashSet};
 
 use surfkit::fair::{
-    condition_violation, fixed_vertices, prepare, refine_surface, tubes, MeshTopology,
+    condition_violation, fixed_vertices, prepare, refine_surface, tubes, MeshTopology, SurfaceKind,
 };
 use surfkit::mesh::PolygonMesh;
 use surfkit::subdiv::{
@@ -87,8 +87,8 @@ fn check_junction(mesh: &PolygonMesh, n: usize, end: usize) {
         };
         assert_eq!(topo.valence(v), expected, "vertex {v}");
     }
-    assert!(condition_violation(mesh, &topo).is_none());
-    let (prepared, levels) = prepare(mesh, 0).unwrap();
+    assert!(condition_violation(mesh, &topo, SurfaceKind::CatmullClark).is_none());
+    let (prepared, levels) = prepare(mesh, 0, SurfaceKind::CatmullClark).unwrap();
     assert_eq!(levels, 0);
     assert_eq!(prepared.positions, mesh.positions);
 }

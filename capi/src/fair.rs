@@ -6,7 +6,7 @@
 use std::ffi::{c_char, c_int, c_void, CString};
 use std::ops::ControlFlow;
 
-use surfkit::fair::{optimize_observed, FairOptions, FairReport, Iteration, StepKind};
+use surfkit::fair::{optimize_observed, FairOptions, FairReport, Iteration, StepKind, SurfaceKind};
 
 use crate::mesh::SurfkitMesh;
 use crate::pointers::{give, output, reference, slice, take};
@@ -35,6 +35,11 @@ pub type SurfkitFairCallback = Option<
     unsafe extern "C" fn(iteration: *const SurfkitFairIteration, user_data: *mut c_void) -> c_int,
 >;
 
+/// `SurfkitFairOptions::surface`: Kiciak's curvature-continuous surface (the default).
+pub const SURFKIT_SURFACE_G2: c_int = 0;
+/// `SurfkitFairOptions::surface`: the Catmull–Clark limit surface.
+pub const SURFKIT_SURFACE_CATMULL_CLARK: c_int = 1;
+
 /// Options of [`surfkit_fair`]; start from [`surfkit_fair_options_default`] (the defaults
 /// of `surfkit fair`).
 #[repr(C)]
@@ -48,10 +53,14 @@ pub struct SurfkitFairOptions {
     /// Stopping rule: ‖∇F‖ ≤ relative_gradient · ‖∇F₀‖, at most max_iterations steps.
     pub relative_gradient: f64,
     pub max_iterations: u32,
-    /// OpenSubdiv's isolation level and Gauss–Legendre nodes per direction per patch.
+    /// The surface: [`SURFKIT_SURFACE_G2`] or [`SURFKIT_SURFACE_CATMULL_CLARK`].
+    pub surface: c_int,
+    /// OpenSubdiv's isolation level (Catmull–Clark surface) and Gauss–Legendre nodes per
+    /// direction per patch.
     pub isolation: u32,
     pub nodes: u32,
-    /// Cᵢ of the faces at special vertices (eq. 5).
+    /// Cᵢ of the faces at special vertices (eq. 5); the default suits the G² surface (1);
+    /// `surfkit fair --surface catmull-clark` uses 0.01.
     pub c_special: f64,
     /// C in F = S + C·c·Q (1: the paper's text; the author's program: 0.01).
     pub regularization: f64,
@@ -75,6 +84,7 @@ pub unsafe extern "C" fn surfkit_fair_options_default(options: *mut SurfkitFairO
             max_refinements: d.max_refinements,
             relative_gradient: d.newton.relative_gradient,
             max_iterations: d.newton.max_iterations.min(u32::MAX as usize) as u32,
+            surface: SURFKIT_SURFACE_G2,
             isolation: d.representation.isolation,
             nodes: d.representation.nodes as u32,
             c_special: d.representation.c_special,
@@ -92,6 +102,8 @@ pub unsafe extern "C" fn surfkit_fair_options_default(options: *mut SurfkitFairO
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct SurfkitFairSummary {
+    /// The surface optimized ([`SURFKIT_SURFACE_G2`] or [`SURFKIT_SURFACE_CATMULL_CLARK`]).
+    pub surface: c_int,
     pub converged: c_int,
     pub cancelled: c_int,
     /// Stopped where no step decreases F, or at the gradient's round-off floor.
@@ -146,6 +158,15 @@ unsafe fn fair_options(o: &SurfkitFairOptions) -> Result<FairOptions, Failure> {
         max_refinements: o.max_refinements,
         fixed: slice(o.fixed, o.fixed_count, "fixed")?.to_vec(),
         ..FairOptions::default()
+    };
+    options.representation.surface = match o.surface {
+        SURFKIT_SURFACE_G2 => SurfaceKind::G2,
+        SURFKIT_SURFACE_CATMULL_CLARK => SurfaceKind::CatmullClark,
+        other => {
+            return Err(Failure::invalid(format!(
+                "surface {other}: use SURFKIT_SURFACE_G2 (0) or SURFKIT_SURFACE_CATMULL_CLARK (1)"
+            )))
+        }
     };
     options.representation.isolation = o.isolation;
     options.representation.nodes = o.nodes as usize;
@@ -238,6 +259,10 @@ pub unsafe extern "C" fn surfkit_fair_report_summary(
         let n = &r.newton;
         let before = r.warm_start.as_ref().map_or(n.initial, |w| w.initial);
         *output(out, "out")? = SurfkitFairSummary {
+            surface: match r.surface {
+                SurfaceKind::G2 => SURFKIT_SURFACE_G2,
+                SurfaceKind::CatmullClark => SURFKIT_SURFACE_CATMULL_CLARK,
+            },
             converged: n.converged as c_int,
             cancelled: (n.cancelled || r.warm_start.as_ref().is_some_and(|w| w.cancelled)) as c_int,
             stuck: n.stuck as c_int,

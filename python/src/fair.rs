@@ -1,11 +1,12 @@
-//! Kiciak's shape optimization of a Catmull–Clark control mesh, with a Python callback
+//! Kiciak's shape optimization of a control mesh (his G² surface or the Catmull–Clark
+//! limit), with a Python callback
 //! after every iteration that can stop the run (the GIL is held only while it runs).
 
 use std::ops::ControlFlow;
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use surfkit::fair::{optimize_observed, FairOptions, Iteration};
+use surfkit::fair::{optimize_observed, FairOptions, Iteration, RepresentationOptions};
 
 use crate::errors::{to_py, InvalidInput};
 use crate::mesh::Mesh;
@@ -15,7 +16,7 @@ use crate::mesh::Mesh;
 /// return stops the run (the positions reached are returned, the report says `cancelled`),
 /// an exception stops it and is raised once the run has ended.
 #[pyfunction]
-#[pyo3(signature = (mesh, *, fixed, boundary_rings, max_refinements, relative_gradient, max_iterations, isolation, nodes, c_special, regularization, callback))]
+#[pyo3(signature = (mesh, *, fixed, boundary_rings, max_refinements, relative_gradient, max_iterations, surface, isolation, nodes, c_special, regularization, callback))]
 #[allow(clippy::too_many_arguments)]
 // Each argument is a keyword argument of the Python function.
 pub fn fair_json(
@@ -26,6 +27,7 @@ pub fn fair_json(
     max_refinements: Option<u32>,
     relative_gradient: Option<f64>,
     max_iterations: Option<usize>,
+    surface: Option<String>,
     isolation: Option<u32>,
     nodes: Option<usize>,
     c_special: Option<f64>,
@@ -49,6 +51,21 @@ pub fn fair_json(
     }
     if let Some(levels) = max_refinements {
         options.max_refinements = levels;
+    }
+    match surface.as_deref() {
+        None | Some("g2") => {}
+        Some("catmull-clark") => {
+            options.representation = RepresentationOptions {
+                memory: options.representation.memory,
+                ..RepresentationOptions::catmull_clark()
+            }
+        }
+        Some(other) => {
+            return Err(InvalidInput::new_err(format!(
+                "surface {other:?}: use \"g2\" (Kiciak's curvature-continuous surface) or \
+                 \"catmull-clark\""
+            )))
+        }
     }
     if let Some(level) = isolation {
         options.representation.isolation = level;

@@ -345,13 +345,16 @@ def fair(
     max_refinements: int | None = None,
     relative_gradient: float | None = None,
     max_iterations: int | None = None,
+    surface: str | None = None,
     isolation: int | None = None,
     nodes: int | None = None,
     c_special: float | None = None,
     regularization: float | None = None,
 ) -> tuple[Mesh, dict[str, Any]]:
-    """Kiciak's shape optimization of a Catmull–Clark control mesh, as ``surfkit fair``
-    (options left at None keep its defaults). ``regularization`` is C in
+    """Kiciak's shape optimization of a control mesh, as ``surfkit fair`` (options left at
+    None keep its defaults). ``surface`` is ``"g2"`` (the default: the paper's
+    curvature-continuous surface) or ``"catmull-clark"`` (``surfkit fair --surface``);
+    ``report["surface"]`` names the one optimized. ``regularization`` is C in
     F = S + C·c·Q (``surfkit fair --regularization``).
 
     Returns the optimized mesh (the input's topology and vertex order unless the method had
@@ -370,6 +373,7 @@ def fair(
         max_refinements=max_refinements,
         relative_gradient=relative_gradient,
         max_iterations=max_iterations,
+        surface=surface,
         isolation=isolation,
         nodes=nodes,
         c_special=c_special,

@@ -62,6 +62,27 @@ def test_regularization_is_the_cli_regularization(tubes: Path, cli: Path, tmp_pa
     assert t["f"] == pytest.approx(t["s"] + 0.01 * report["c"] * t["q"], rel=1e-12)
 
 
+def test_the_surface_is_the_cli_surface(tubes: Path, cli: Path, tmp_path: Path):
+    for surface in ("g2", "catmull-clark"):
+        run = subprocess.run(
+            [cli, "fair", tubes, "-o", tmp_path / "s.ply", "--json", "--surface", surface],
+            check=True,
+            capture_output=True,
+            text=True,
+        )
+        theirs = json.loads(run.stdout)["report"]
+        _, report = surfkit.fair(surfkit.read_mesh(tubes), surface=surface)
+        assert report["surface"] == theirs["surface"] == surface
+        for term in ("f", "s", "q"):
+            assert report["final_terms"][term] == pytest.approx(
+                theirs["final_terms"][term], rel=1e-9
+            )
+    _, default = surfkit.fair(surfkit.read_mesh(tubes), max_iterations=1)
+    assert default["surface"] == "g2"
+    with pytest.raises(surfkit.InvalidInput, match="surface"):
+        surfkit.fair(surfkit.read_mesh(tubes), surface="loop")
+
+
 def test_the_callback_stops_the_run(tubes: Path):
     seen: list[float] = []
 

@@ -312,7 +312,7 @@ fn fairing(out: &Path, html: &Path) -> crate::Result<()> {
         Some(&dir),
         Some(html),
         4,
-        options.representation.isolation,
+        &options.representation,
     )?;
     let iterations = report.newton.iterations.len();
     println!(

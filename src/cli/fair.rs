@@ -13,16 +13,32 @@ use crate::error::Error;
 
 use super::html_pages::{fair_log_plot, fair_summary};
 use crate::fair::{
-    curvature_samples, optimize_levels_observed, read_fixed, refine_surface, shape_change, tubes,
-    BlockOptions, EndCaps, FairOptions, FairReport, Iteration, LevelReport, LmMatrix,
-    NewtonOptions, QDomain, RepresentationOptions, ShapeChange, DEFAULT_C_SPECIAL,
-    DEFAULT_REGULARIZATION,
+    optimize_levels_observed, read_fixed, refine_surface, shape_change, surface_samples, tubes,
+    write_bezier_patches, BlockOptions, EndCaps, FairOptions, FairReport, G2Surface, Iteration,
+    LevelReport, LmMatrix, MeshTopology, NewtonOptions, QDomain, RepresentationOptions,
+    ShapeChange, SurfaceKind, DEFAULT_C_SPECIAL, DEFAULT_C_SPECIAL_G2, DEFAULT_REGULARIZATION,
 };
 use crate::limits::MemoryBudget;
 use crate::mesh::io::{read, write, WriteOptions};
 use crate::mesh::PolygonMesh;
 use crate::report::html::{surface_page, write_html};
 use crate::report::{paired_color_range, render_png, RenderOptions};
+
+/// `--surface`.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SurfaceArg {
+    G2,
+    CatmullClark,
+}
+
+impl SurfaceArg {
+    pub fn kind(self) -> SurfaceKind {
+        match self {
+            SurfaceArg::G2 => SurfaceKind::G2,
+            SurfaceArg::CatmullClark => SurfaceKind::CatmullClark,
+        }
+    }
+}
 
 #[derive(clap::Args, Debug)]
 pub struct FairArgs {
@@ -39,16 +55,22 @@ pub struct FairArgs {
     /// Most uniform refinements to meet the paper's conditions (0: input must meet them).
     #[arg(long, default_value_t = 2)]
     pub max_refinements: u32,
-    /// OpenSubdiv's adaptive isolation level around extraordinary vertices.
+    /// The surface to optimize: Kiciak's curvature-continuous one (the paper's: bicubic
+    /// patches, and degree-(9, 9) patches at special vertices) or the Catmull–Clark limit.
+    #[arg(long, value_enum, default_value_t = SurfaceArg::G2)]
+    pub surface: SurfaceArg,
+    /// OpenSubdiv's adaptive isolation level around extraordinary vertices (Catmull–Clark
+    /// surface).
     #[arg(long, default_value_t = 4)]
     pub isolation: u32,
     /// Gauss–Legendre nodes per direction per patch.
     #[arg(long, default_value_t = 4)]
     pub nodes: usize,
-    /// Cᵢ of elements at special vertices (ordinary elements: 1); smaller than 1 as the
-    /// paper suggests: at 1 the regularization pulls the mesh toward the special vertices.
-    #[arg(long, default_value_t = DEFAULT_C_SPECIAL, value_parser = super::positive_finite)]
-    pub c_special: f64,
+    /// Cᵢ of elements at special vertices (ordinary elements: 1). Default: 1 on the G²
+    /// surface (the paper's Cᵢ = C, as the author's program); 0.01 on the Catmull–Clark
+    /// surface, where at 1 the regularization pulls the mesh toward the special vertices.
+    #[arg(long, value_parser = super::positive_finite)]
+    pub c_special: Option<f64>,
     /// C in F = S + C·c·Q (c = |E|²/D⁴, paper §4): 1 is the paper's text; the default is
     /// the author's test program's (at 1, Q outweighs S on his finer meshes: S rises).
     #[arg(long, default_value_t = DEFAULT_REGULARIZATION, value_parser = super::positive_finite)]
@@ -82,6 +104,10 @@ pub struct FairArgs {
     /// and the optimization log as a plot.
     #[arg(long)]
     pub html: Option<PathBuf>,
+    /// Write the optimized G² surface here as Bézier patches (JSON, format
+    /// `surfkit-bezier-patches`: one patch of degree 3 or 9 per internal face; README).
+    #[arg(long)]
+    pub bezier: Option<PathBuf>,
     /// Use the block method of the paper's §5 with this many blocks (for large meshes:
     /// block Newton iterations, then global Newton steps by Schwarz-preconditioned CG).
     #[arg(long)]
@@ -148,7 +174,7 @@ pub(super) fn write_results(
     figures: Option<&Path>,
     html: Option<HtmlRequest>,
     density: u32,
-    isolation: u32,
+    surface: &RepresentationOptions,
 ) -> crate::Result<Written> {
     let mut written = Written {
         samples: None,
@@ -159,13 +185,13 @@ pub(super) fn write_results(
     if samples.is_none() && figures.is_none() && html.is_none() {
         return Ok(written);
     }
-    let after_samples = curvature_samples(after, density, isolation)?.mesh;
+    let after_samples = surface_samples(after, density, surface)?.mesh;
     if let Some(path) = samples {
         write(path, &after_samples, &WriteOptions::default())?;
         written.samples = Some(path.to_path_buf());
     }
     let before_samples = if figures.is_some() || html.is_some() {
-        curvature_samples(before, density, isolation)?.mesh
+        surface_samples(before, density, surface)?.mesh
     } else {
         PolygonMesh::default()
     };
@@ -264,9 +290,13 @@ impl Progress {
 fn options(args: &FairArgs, memory: MemoryBudget) -> FairOptions {
     let mut options = FairOptions {
         representation: RepresentationOptions {
+            surface: args.surface.kind(),
             nodes: args.nodes,
             isolation: args.isolation,
-            c_special: args.c_special,
+            c_special: args.c_special.unwrap_or(match args.surface {
+                SurfaceArg::G2 => DEFAULT_C_SPECIAL_G2,
+                SurfaceArg::CatmullClark => DEFAULT_C_SPECIAL,
+            }),
             end_caps: if args.end_caps_in_s {
                 EndCaps::Include
             } else {
@@ -360,8 +390,14 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
             Some(&args.output),
             args.samples.as_deref(),
             args.html.as_deref(),
+            args.bezier.as_deref(),
         ],
     )?;
+    if args.bezier.is_some() && args.surface != SurfaceArg::G2 {
+        return Err(Error::InvalidInput(
+            "--bezier writes the G² surface's patches; it needs --surface g2".into(),
+        ));
+    }
     let mesh = read(&args.input)?;
     if mesh.sharp_features.is_some() {
         eprintln!(
@@ -391,10 +427,16 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
         args.figures.as_deref(),
         html,
         args.sample_density,
-        args.isolation,
+        &options.representation,
     )?;
+    if let Some(path) = &args.bezier {
+        let topo = MeshTopology::new(out)?;
+        let surface = G2Surface::new(out, &topo.boundary, &topo.special_flags(), memory)?;
+        write_bezier_patches(path, &surface, &out.positions)?;
+    }
     if args.json {
         let json = serde_json::json!({
+            "bezier": args.bezier,
             "input": args.input, "output": args.output, "seconds": seconds,
             "fixed_given": options.fixed.len(),
             "shape": change,
@@ -468,6 +510,12 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
         }
         if let Some(path) = &written.html {
             println!("  {}  (HTML report: open it in a browser)", path.display());
+        }
+        if let Some(path) = &args.bezier {
+            println!(
+                "  {}  (Bézier patches of the G² surface, JSON)",
+                path.display()
+            );
         }
     }
     let n = &report.newton;

@@ -46,10 +46,12 @@ pub use solvers::newton::{
 };
 pub use solvers::pcg::{multiply, pcg, CgOutcome, CgStop};
 pub use solvers::schwarz::Schwarz;
-pub use surface::curvature_map::curvature_samples;
+pub use surface::any_representation::SurfaceRepresentation;
+pub use surface::curvature_map::{curvature_samples, surface_samples};
 pub use surface::g2::bernstein::{
     bernstein_derivatives, COEFFICIENTS as SPECIAL_PATCH_COEFFICIENTS,
 };
+pub use surface::g2::bezier_export::write_bezier_patches;
 pub use surface::g2::division_curve::{bezier_derivatives, division_curve, Degree7};
 pub use surface::g2::domain_derivatives::InverseChainRule;
 pub use surface::g2::domain_net::{boundary_arcs, cubic_arc, subdominant_eigenvalue, DomainNet};
@@ -63,7 +65,7 @@ pub use surface::g2::surface::{FacePatch, G2Surface};
 pub use surface::quadrature::{gauss_legendre, MAX_NODES};
 pub use surface::representation::{
     EndCaps, PatchRepresentation, QDomain, QuadraturePoint, Representation, RepresentationOptions,
-    DEFAULT_C_SPECIAL, DERIVATIVES,
+    SurfaceKind, DEFAULT_C_SPECIAL, DEFAULT_C_SPECIAL_G2, DERIVATIVES,
 };
 pub use surface::sub_representation::SubRepresentation;
 
@@ -131,6 +133,8 @@ impl Default for FairOptions {
 /// What [`optimize`] did.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct FairReport {
+    /// The surface that was optimized.
+    pub surface: SurfaceKind,
     /// Uniform refinements applied by [`prepare`] (0: same topology as the input).
     pub refinements: u32,
     pub vertices: usize,
@@ -177,7 +181,11 @@ fn scale_constant(mesh: &PolygonMesh, held: &[bool], elements: usize) -> Result<
 /// [`prepare`] under `options`, refusing user-given fixed ids when it had to refine (they
 /// name input vertices, which refinement renumbers).
 fn prepare_with_fixed(mesh: &PolygonMesh, options: &FairOptions) -> Result<(PolygonMesh, u32)> {
-    let (prepared, refinements) = prepare(mesh, options.max_refinements)?;
+    let (prepared, refinements) = prepare(
+        mesh,
+        options.max_refinements,
+        options.representation.surface,
+    )?;
     if refinements > 0 && !options.fixed.is_empty() {
         return Err(Error::InvalidInput(
             "user-given fixed vertices refer to the input's ids, but the mesh needs \
@@ -227,7 +235,7 @@ pub fn optimize_observed(
     let fixed = fixed_vertices(&topo, options.boundary_rings, &options.fixed)?;
     let special = topo.special_flags();
     let rep =
-        PatchRepresentation::new(&prepared, &topo.boundary, &special, &options.representation)?;
+        SurfaceRepresentation::new(&prepared, &topo.boundary, &special, &options.representation)?;
     let held = if topo.boundary.iter().any(|&b| b) {
         &topo.boundary
     } else {
@@ -239,7 +247,10 @@ pub fn optimize_observed(
     let mut positions = prepared.positions.clone();
     let initial_gradient = functional.gradient(&positions).1;
     let warm_start = match options.warm_start_isolation {
-        Some(level) if level < options.representation.isolation => {
+        Some(level)
+            if level < options.representation.isolation
+                && options.representation.surface == SurfaceKind::CatmullClark =>
+        {
             let coarse = PatchRepresentation::new(
                 &prepared,
                 &topo.boundary,
@@ -301,6 +312,7 @@ pub fn optimize_observed(
     Ok((
         out,
         FairReport {
+            surface: options.representation.surface,
             refinements,
             vertices: prepared.vertex_count(),
             free_vertices: functional.free_count(),

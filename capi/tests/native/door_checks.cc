@@ -223,6 +223,25 @@ static void cycles() {
     surfkit_fair_report_free(report);
     surfkit_mesh_free(out);
   }
+  // The surface option: the default is Kiciak's G² surface, the summary names the one
+  // optimized, and an unknown surface is refused with a message.
+  for (int surface : {SURFKIT_SURFACE_G2, SURFKIT_SURFACE_CATMULL_CLARK}) {
+    options.surface = surface;
+    SurfkitMesh* out = nullptr;
+    SurfkitFairReport* report = nullptr;
+    EXPECT(surfkit_fair(soup.get(), &options, &out, &report) == SURFKIT_OK);
+    SurfkitFairSummary summary;
+    EXPECT(surfkit_fair_report_summary(report, &summary) == SURFKIT_OK && summary.surface == surface);
+    surfkit_fair_report_free(report);
+    surfkit_mesh_free(out);
+  }
+  SurfkitFairOptions defaults;
+  surfkit_fair_options_default(&defaults);
+  EXPECT(defaults.surface == SURFKIT_SURFACE_G2);
+  options.surface = 7;
+  SurfkitMesh* refused = nullptr;
+  EXPECT(surfkit_fair(soup.get(), &options, &refused, nullptr) == SURFKIT_INVALID_INPUT &&
+         std::strstr(surfkit_last_error(), "surface 7") != nullptr && refused == nullptr);
 }
 
 /// Float meshes: surfkit computes in double and rounds once into the float mesh.

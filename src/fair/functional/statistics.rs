@@ -3,7 +3,7 @@
 //! (one source of truth for "the mean curvature is more even"), for summaries and reports.
 
 use crate::error::{Error, Result};
-use crate::fair::{fixed_vertices, FairOptions, Functional, MeshTopology, PatchRepresentation};
+use crate::fair::{fixed_vertices, FairOptions, Functional, MeshTopology, SurfaceRepresentation};
 use crate::mesh::PolygonMesh;
 
 /// S and the area-weighted mean and standard deviation of H, before and after.
@@ -42,7 +42,7 @@ pub fn shape_change(
     let fixed = fixed_vertices(&topo, options.boundary_rings, &options.fixed)?;
     let special = topo.special_flags();
     let rep =
-        PatchRepresentation::new(prepared, &topo.boundary, &special, &options.representation)?;
+        SurfaceRepresentation::new(prepared, &topo.boundary, &special, &options.representation)?;
     let functional = Functional::new(&rep, &fixed, c);
     let (mean_h_before, std_h_before) = functional.mean_curvature_statistics(&prepared.positions);
     let (mean_h_after, std_h_after) = functional.mean_curvature_statistics(&optimized.positions);

@@ -4,25 +4,31 @@
 
 use crate::error::{Error, Result};
 use crate::fair::preparation::topology::{condition_violation, MeshTopology};
+use crate::fair::SurfaceKind;
 use crate::mesh::PolygonMesh;
 use crate::subdiv::{refine_uniform, SubdivOptions};
 
 /// The mesh refined (uniformly, by OpenSubdiv) the fewest times, at most `max_levels`, that
 /// makes every face a quad and keeps special vertices two edges apart from each other and
-/// from the boundary (§2); and the number of levels used.
+/// from the boundary (§2) — and, for the G² surface, gives each a proper Sabin net (see
+/// [`condition_violation`]); and the number of levels used.
 ///
 /// # Errors
 /// [`Error::Topology`] if the mesh is not manifold, if refinement changed V − E + F (it
 /// must not), or if `max_levels` refinements do not meet the conditions; errors of
 /// [`refine_uniform`].
-pub fn prepare(mesh: &PolygonMesh, max_levels: u32) -> Result<(PolygonMesh, u32)> {
+pub fn prepare(
+    mesh: &PolygonMesh,
+    max_levels: u32,
+    surface: SurfaceKind,
+) -> Result<(PolygonMesh, u32)> {
     check_valence(mesh)?;
     let topo = MeshTopology::new(mesh)?;
     let chi = topo.euler_characteristic();
     let mut current = mesh.clone();
     let mut current_topo = topo;
     for level in 0..=max_levels {
-        let violation = condition_violation(&current, &current_topo);
+        let violation = condition_violation(&current, &current_topo, surface);
         match violation {
             None => return Ok((current, level)),
             Some(why) if level == max_levels => {

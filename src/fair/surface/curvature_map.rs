@@ -1,9 +1,11 @@
-//! Curvature maps of the surface the optimizer shapes: limit samples with mean curvature as
+//! Curvature maps of the surface the optimizer shapes (either surface, [`surface_samples`]): limit samples with mean curvature as
 //! per-vertex quality (MeshLab colours them), of the internal faces only — as in the paper
 //! (§2) the boundary faces carry no surface, their limit depends on a boundary rule the
 //! method does not use, and their vertices are fixed anyway.
 
 use crate::error::Result;
+use crate::fair::surface::g2::samples::g2_samples;
+use crate::fair::surface::representation::{RepresentationOptions, SurfaceKind};
 use crate::mesh::PolygonMesh;
 use crate::subdiv::{
     limit_surface, sample_limit, BoundaryInterpolation, LimitSamples, PatchOptions, SampleOptions,
@@ -30,4 +32,20 @@ pub fn curvature_samples(mesh: &PolygonMesh, samples: u32, isolation: u32) -> Re
         },
     )?;
     sample_limit(&surface, &SampleOptions { samples })
+}
+
+/// Curvature samples of the surface `options` choose ([`SurfaceKind`]): the Catmull–Clark
+/// limit at `options.isolation`, or Kiciak's G² surface.
+///
+/// # Errors
+/// Those of [`curvature_samples`] or of the G² surface.
+pub fn surface_samples(
+    mesh: &PolygonMesh,
+    samples: u32,
+    options: &RepresentationOptions,
+) -> Result<LimitSamples> {
+    match options.surface {
+        SurfaceKind::CatmullClark => curvature_samples(mesh, samples, options.isolation),
+        SurfaceKind::G2 => g2_samples(mesh, samples, options.memory),
+    }
 }

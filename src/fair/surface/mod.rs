@@ -2,6 +2,7 @@
 //! at each quadrature point of each element, its derivatives as fixed linear combinations
 //! of control vertices (paper eq. 1) — and the samples that show it.
 
+pub(crate) mod any_representation;
 pub(crate) mod curvature_map;
 pub(crate) mod g2;
 pub(crate) mod quadrature;

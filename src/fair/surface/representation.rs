@@ -102,18 +102,51 @@ pub enum QDomain {
 /// them, whose control nets contain the special vertex and its first ring.
 pub const DEFAULT_C_SPECIAL: f64 = 0.01;
 
-/// Options of [`PatchRepresentation::new`].
+/// Which surface the control mesh stands for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SurfaceKind {
+    /// Kiciak's curvature-continuous surface (paper §3): bicubic B-spline patches and, at
+    /// each special vertex, k degree-(9, 9) patches ([`crate::fair::G2Representation`]).
+    /// The default: it is the surface the paper optimizes (curvature continuous where the
+    /// Catmull–Clark limit's curvature is unbounded at special vertices), and surfkit's S
+    /// and F on it are the author's program's (`tests/fair_g2_surface.rs`).
+    #[default]
+    G2,
+    /// The Catmull–Clark limit surface as OpenSubdiv's feature-adaptive patches with
+    /// B-spline end caps ([`PatchRepresentation`]).
+    #[serde(rename = "catmull-clark")]
+    CatmullClark,
+}
+
+impl SurfaceKind {
+    /// The name reports use.
+    pub fn name(self) -> &'static str {
+        match self {
+            SurfaceKind::G2 => "g2",
+            SurfaceKind::CatmullClark => "catmull-clark",
+        }
+    }
+}
+
+/// Default Cᵢ of special elements on the G² surface: the paper's Cᵢ = C (§4: "taking Cᵢ =
+/// C = const works also for meshes with special elements"), as the author's program does.
+pub const DEFAULT_C_SPECIAL_G2: f64 = 1.0;
+
+/// Options of [`PatchRepresentation::new`] and [`crate::fair::G2Representation::new`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct RepresentationOptions {
+    /// The surface.
+    pub surface: SurfaceKind,
     /// Gauss–Legendre nodes per direction per patch.
     pub nodes: usize,
-    /// OpenSubdiv's feature-adaptive isolation level.
+    /// OpenSubdiv's feature-adaptive isolation level (Catmull–Clark surface).
     pub isolation: u32,
     /// Cᵢ of ordinary elements (eq. 5).
     pub c_ordinary: f64,
     /// Cᵢ of elements with a special vertex (§4: smaller values lessen the
-    /// regularization's effect near special vertices). Default 0.01, see
-    /// [`DEFAULT_C_SPECIAL`].
+    /// regularization's effect near special vertices). Default 0.01 for the Catmull–Clark
+    /// surface ([`DEFAULT_C_SPECIAL`]); [`DEFAULT_C_SPECIAL_G2`] suits the G² surface.
     pub c_special: f64,
     pub end_caps: EndCaps,
     pub q_domain: QDomain,
@@ -123,13 +156,26 @@ pub struct RepresentationOptions {
     pub memory: MemoryBudget,
 }
 
+impl RepresentationOptions {
+    /// The defaults for the Catmull–Clark surface (Cᵢ of special elements
+    /// [`DEFAULT_C_SPECIAL`]).
+    pub fn catmull_clark() -> Self {
+        RepresentationOptions {
+            surface: SurfaceKind::CatmullClark,
+            c_special: DEFAULT_C_SPECIAL,
+            ..RepresentationOptions::default()
+        }
+    }
+}
+
 impl Default for RepresentationOptions {
     fn default() -> Self {
         RepresentationOptions {
+            surface: SurfaceKind::default(),
             nodes: 4,
             isolation: 4,
             c_ordinary: 1.0,
-            c_special: DEFAULT_C_SPECIAL,
+            c_special: DEFAULT_C_SPECIAL_G2,
             end_caps: EndCaps::ExcludeFromS,
             q_domain: QDomain::Patch,
             memory: MemoryBudget::default(),

@@ -53,6 +53,22 @@ pub struct SectorDomain {
     pub junctions: [Junction; 4],
 }
 
+impl SectorDomain {
+    /// This sector's domain patch turned by 2π·`turns`/k about the centre (the origin).
+    pub fn rotated(&self, turns: usize, k: usize) -> SectorDomain {
+        let angle = 2.0 * std::f64::consts::PI * turns as f64 / k as f64;
+        let (sin, cos) = angle.sin_cos();
+        let [x, y] = &self.patch;
+        SectorDomain {
+            patch: [
+                x.iter().zip(y).map(|(x, y)| cos * x - sin * y).collect(),
+                x.iter().zip(y).map(|(x, y)| sin * x + cos * y).collect(),
+            ],
+            junctions: self.junctions.clone(),
+        }
+    }
+}
+
 /// The auxiliary jet of side `side` of sector `sector` at t, for the domain coordinate `c`.
 fn domain_jet(
     net: &DomainNet,
@@ -219,6 +235,14 @@ mod tests {
             println!("k {k}");
             for (s, side) in Side::ALL.iter().enumerate() {
                 println!("  {side:?}: {:?}", j[s].0);
+            }
+            // the net is k-fold symmetric: sector 1 solved on its own is sector 0 turned
+            let turned = d.rotated(1, k);
+            let second = sector_domain(&net, 1).unwrap();
+            for c in 0..2 {
+                for (a, b) in turned.patch[c].iter().zip(&second.patch[c]) {
+                    assert!((a - b).abs() < 1e-9, "k {k}: {a} vs {b}");
+                }
             }
             if k == 4 {
                 // The square lattice needs no reparameterization across any side.

@@ -148,9 +148,10 @@ impl PatchMatrix {
             )));
         }
         let net = DomainNet::new(k);
-        let sectors = (0..k)
-            .map(|s| sector_domain(&net, s))
-            .collect::<Result<Vec<_>>>()?;
+        // The domain net is k-fold rotationally symmetric: sector s is sector 0 turned by
+        // 2πs/k, with the same junction functions.
+        let first = sector_domain(&net, 0)?;
+        let sectors: Vec<SectorDomain> = (0..k).map(|s| first.rotated(s, k)).collect();
         let conditions = Conditions::new(k, &sectors);
         let energy = triharmonic(k, &sectors)?;
         let n = unknowns(k);
