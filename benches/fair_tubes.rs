@@ -8,8 +8,9 @@
 //! for one), the paper's and BSTools' on one core. OpenSubdiv's
 //! isolation level around extraordinary vertices: `FAIR_BENCH_ISOLATION` (default 4);
 //! `FAIR_BENCH_WARM_START=2` first optimizes at level 2 (see `FairOptions`);
-//! `FAIR_BENCH_C_SPECIAL`: Cᵢ of the elements at special vertices (default
-//! `fair::DEFAULT_C_SPECIAL`).
+//! `FAIR_BENCH_C_SPECIAL`: Cᵢ of the elements at special vertices (default: the
+//! surface's). `FAIR_BENCH_SURFACES` (default `g2,catmull-clark`): each size on Kiciak's
+//! G² surface and on the Catmull–Clark surface, one after the other.
 //!
 //! Each refined size is also run coarse-to-fine (`fair::optimize_levels`, as the paper's §6
 //! did for figure 7): from the raw coarsest mesh of its family, optimized, refined, and
@@ -21,7 +22,7 @@ use std::time::Instant;
 
 use surfkit::fair::{
     fixed_vertices, optimize, optimize_levels, refine_surface, tubes, FairOptions, Functional,
-    MeshTopology, PatchRepresentation, RepresentationOptions,
+    MeshTopology, PatchRepresentation, RepresentationOptions, SurfaceKind, SurfaceRepresentation,
 };
 
 /// (vertices, tubes, m, rings, surface refinements, paper Table 1 seconds, BSTools seconds
@@ -92,39 +93,55 @@ fn main() -> surfkit::Result<()> {
         "wall s",
         "ref s"
     );
+    let surfaces: Vec<SurfaceKind> = std::env::var("FAIR_BENCH_SURFACES")
+        .unwrap_or_else(|_| "g2,catmull-clark".into())
+        .split(',')
+        .filter_map(|s| match s.trim() {
+            "g2" => Some(SurfaceKind::G2),
+            "catmull-clark" => Some(SurfaceKind::CatmullClark),
+            _ => None,
+        })
+        .collect();
     for &(nv, n, m, rings, levels, paper, bstools) in SIZES.iter().filter(|s| wanted.contains(&s.0))
     {
-        let mesh = refine_surface(&tubes(n, m, rings)?, levels)?;
-        assert_eq!(mesh.vertex_count(), nv, "the generator's sizes changed");
-        let mut options = FairOptions {
-            max_refinements: 0,
-            ..FairOptions::default()
-        };
-        if let Some(level) = std::env::var("FAIR_BENCH_ISOLATION")
-            .ok()
-            .and_then(|s| s.parse().ok())
-        {
-            options.representation.isolation = level;
-        }
-        if let Some(c) = std::env::var("FAIR_BENCH_C_SPECIAL")
-            .ok()
-            .and_then(|s| s.parse().ok())
-        {
-            options.representation.c_special = c;
-        }
-        if let Some(level) = std::env::var("FAIR_BENCH_WARM_START")
-            .ok()
-            .and_then(|s| s.parse().ok())
-        {
-            options.warm_start_isolation = Some(level);
-        }
-        let raw = std::env::var("FAIR_BENCH_RAW").map_or(true, |v| v != "0");
-        if raw || levels == 0 {
-            raw_start(&mesh, n, levels, &options, paper, bstools)?;
-        }
-        let cascade = std::env::var("FAIR_BENCH_LEVELS").map_or(true, |v| v != "0");
-        if cascade && levels > 0 {
-            coarse_to_fine(&tubes(n, m, rings)?, levels, &options, paper.or(bstools))?;
+        for &surface in &surfaces {
+            let mesh = refine_surface(&tubes(n, m, rings)?, levels)?;
+            assert_eq!(mesh.vertex_count(), nv, "the generator's sizes changed");
+            println!("surface {}", surface.name());
+            let mut options = FairOptions {
+                max_refinements: 0,
+                representation: match surface {
+                    SurfaceKind::G2 => RepresentationOptions::default(),
+                    SurfaceKind::CatmullClark => RepresentationOptions::catmull_clark(),
+                },
+                ..FairOptions::default()
+            };
+            if let Some(level) = std::env::var("FAIR_BENCH_ISOLATION")
+                .ok()
+                .and_then(|s| s.parse().ok())
+            {
+                options.representation.isolation = level;
+            }
+            if let Some(c) = std::env::var("FAIR_BENCH_C_SPECIAL")
+                .ok()
+                .and_then(|s| s.parse().ok())
+            {
+                options.representation.c_special = c;
+            }
+            if let Some(level) = std::env::var("FAIR_BENCH_WARM_START")
+                .ok()
+                .and_then(|s| s.parse().ok())
+            {
+                options.warm_start_isolation = Some(level);
+            }
+            let raw = std::env::var("FAIR_BENCH_RAW").map_or(true, |v| v != "0");
+            if raw || levels == 0 {
+                raw_start(&mesh, n, levels, &options, paper, bstools)?;
+            }
+            let cascade = std::env::var("FAIR_BENCH_LEVELS").map_or(true, |v| v != "0");
+            if cascade && levels > 0 {
+                coarse_to_fine(&tubes(n, m, rings)?, levels, &options, paper.or(bstools))?;
+            }
         }
     }
     Ok(())
@@ -152,7 +169,7 @@ fn raw_start(
     let topo = MeshTopology::new(mesh)?;
     let fixed = fixed_vertices(&topo, 3, &[])?;
     let special = topo.special_flags();
-    let rep = PatchRepresentation::new(mesh, &topo.boundary, &special, &options.representation)?;
+    let rep = SurfaceRepresentation::new(mesh, &topo.boundary, &special, &options.representation)?;
     let f = Functional::new(&rep, &fixed, report.c);
     let (s0, s1) = (f.value(&mesh.positions).s, f.value(&out.positions).s);
     let (sd0, sd1) = (
@@ -162,7 +179,11 @@ fn raw_start(
     let reference = paper.or(bstools);
     // How much the adaptive isolation level moves F, next to what the optimization
     // gained (issue 6: the end-cap choice must not matter at that scale).
-    let isolation: Vec<String> = [3, 4, 5]
+    let levels_of_isolation: &[u32] = match options.representation.surface {
+        SurfaceKind::CatmullClark => &[3, 4, 5],
+        SurfaceKind::G2 => &[],
+    };
+    let isolation: Vec<String> = levels_of_isolation
         .iter()
         .map(|&l| {
             let f0 = f_at_isolation(mesh, &mesh.positions, &options.representation, l, report.c)?;

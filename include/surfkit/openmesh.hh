@@ -536,6 +536,9 @@ struct FairIteration {
 /// refined (the result is written back into the caller's mesh, topology untouched).
 struct FairOptions {
   unsigned boundary_rings = 3;
+  /// The surface: SURFKIT_SURFACE_G2 (Kiciak's curvature-continuous one, the default) or
+  /// SURFKIT_SURFACE_CATMULL_CLARK (then c_special 0 means `surfkit fair`'s 0.01 for it).
+  int surface = SURFKIT_SURFACE_G2;
   // 0: surfkit's default (that of `surfkit fair`) for each of these.
   double relative_gradient = 0;
   unsigned max_iterations = 0;
@@ -558,6 +561,8 @@ struct FairReport {
   size_t iterations = 0, hessian_evaluations = 0, free_vertices = 0;
   double s_before = 0, s_after = 0, f_before = 0, f_after = 0, q_before = 0, q_after = 0;
   double gradient_norm_before = 0, gradient_norm_after = 0;
+  /// The surface optimized (SURFKIT_SURFACE_G2 or SURFKIT_SURFACE_CATMULL_CLARK).
+  int surface = SURFKIT_SURFACE_G2;
   std::string json;
 };
 
@@ -609,6 +614,8 @@ FairReport fair(Mesh& mesh, const FairOptions& options = FairOptions{}) {
   detail::check(surfkit_fair_options_default(&o));
   o.boundary_rings = options.boundary_rings;
   o.max_refinements = 0;
+  o.surface = options.surface;
+  if (options.surface == SURFKIT_SURFACE_CATMULL_CLARK) o.c_special = 0.01;
   if (options.relative_gradient != 0) o.relative_gradient = options.relative_gradient;
   if (options.max_iterations != 0) o.max_iterations = options.max_iterations;
   if (options.isolation != 0) o.isolation = options.isolation;
@@ -652,6 +659,7 @@ FairReport fair(Mesh& mesh, const FairOptions& options = FairOptions{}) {
   r.q_after = s.q_after;
   r.gradient_norm_before = s.gradient_norm_before;
   r.gradient_norm_after = s.gradient_norm_after;
+  r.surface = s.surface;
   const char* json = nullptr;
   detail::check(surfkit_fair_report_json(raw.get(), &json));
   r.json = json;

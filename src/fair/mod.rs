@@ -48,17 +48,19 @@ pub use solvers::pcg::{multiply, pcg, CgOutcome, CgStop};
 pub use solvers::schwarz::Schwarz;
 pub use surface::any_representation::SurfaceRepresentation;
 pub use surface::curvature_map::{curvature_samples, surface_samples};
-pub use surface::g2::bernstein::{
+pub use surface::g2::basis::bernstein::{
     bernstein_derivatives, COEFFICIENTS as SPECIAL_PATCH_COEFFICIENTS,
 };
-pub use surface::g2::bezier_export::write_bezier_patches;
-pub use surface::g2::division_curve::{bezier_derivatives, division_curve, Degree7};
-pub use surface::g2::domain_derivatives::InverseChainRule;
-pub use surface::g2::domain_net::{boundary_arcs, cubic_arc, subdominant_eigenvalue, DomainNet};
-pub use surface::g2::junction::{sector_domain, Junction, SectorDomain};
-pub use surface::g2::patch_matrix::{
+pub use surface::g2::basis::division_curve::{bezier_derivatives, division_curve, Degree7};
+pub use surface::g2::basis::domain_derivatives::InverseChainRule;
+pub use surface::g2::basis::domain_net::{
+    boundary_arcs, cubic_arc, subdominant_eigenvalue, DomainNet,
+};
+pub use surface::g2::basis::junction::{sector_domain, Junction, SectorDomain};
+pub use surface::g2::basis::patch_matrix::{
     map_derivatives, patch_derivatives, PatchMatrix, MAX_SPECIAL_VALENCE,
 };
+pub use surface::g2::bezier_export::write_bezier_patches;
 pub use surface::g2::representation::G2Representation;
 pub use surface::g2::sabin_net::SabinNet;
 pub use surface::g2::surface::{FacePatch, G2Surface};

@@ -162,7 +162,7 @@ static void callbacks() {
   options.progress = [&](const surfkit::FairIteration& it) { seen = it.iteration; return it.iteration < 2; };
   Mesh again = grid(6, 1.0f);
   surfkit::FairReport q = surfkit::fair(again, options);
-  EXPECT(q.cancelled && !q.converged && q.iterations == 2 && seen == 2);
+  EXPECT(q.cancelled && !q.converged && q.iterations == 2 && seen == 2 && q.surface == SURFKIT_SURFACE_G2);
 }
 
 static void cycles() {

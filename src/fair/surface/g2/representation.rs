@@ -6,9 +6,9 @@
 //! (through δ_s, weight |det Dδ_s|), where the paper integrates S and Q; S does not depend
 //! on the parameterization, Q does.
 
-use super::bernstein::{bernstein_derivatives, COEFFICIENTS, ORDER};
-use super::domain_derivatives::InverseChainRule;
-use super::patch_matrix::{map_derivatives, PatchMatrix, ORDERS};
+use super::basis::bernstein::{bernstein_derivatives, COEFFICIENTS, ORDER};
+use super::basis::domain_derivatives::InverseChainRule;
+use super::basis::patch_matrix::{map_derivatives, PatchMatrix, ORDERS};
 use super::sabin_net::SabinNet;
 use super::surface::{FacePatch, G2Surface};
 use crate::error::{Error, Result};

@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use super::domain_net::PER_SECTOR;
+use super::basis::domain_net::PER_SECTOR;
 use crate::error::{Error, Result};
 use crate::mesh::PolygonMesh;
 

@@ -22,7 +22,7 @@ pub fn mean_curvature(d: &[SecondOrder; 3]) -> Option<f64> {
     ];
     let (e, f, g) = (dot(pu, pu), dot(pu, pv), dot(pv, pv));
     let det = e * g - f * f;
-    if !(det > 1e-300) {
+    if det.is_nan() || det <= 1e-300 {
         return None;
     }
     let len = det.sqrt();

@@ -6,8 +6,8 @@
 
 use std::sync::Arc;
 
-use super::bernstein::{bernstein_derivatives, COEFFICIENTS, ORDER};
-use super::patch_matrix::PatchMatrix;
+use super::basis::bernstein::{bernstein_derivatives, COEFFICIENTS, ORDER};
+use super::basis::patch_matrix::PatchMatrix;
 use super::sabin_net::{directed_edges, SabinNet};
 use crate::error::{Error, Result};
 use crate::limits::MemoryBudget;

@@ -194,7 +194,14 @@ impl PatchMatrix {
         if let Some(m) = slot.get() {
             return Ok(m.clone());
         }
-        let computed = Arc::new(PatchMatrix::compute(k)?);
+        // On one thread: faer splits its dense factorizations by the pool's size, and the
+        // basis must not depend on it (the optimum would differ in the last bits from one
+        // machine, or RAYON_NUM_THREADS, to another).
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .map_err(|e| Error::InvalidInput(format!("a thread for the G² basis: {e}")))?;
+        let computed = Arc::new(pool.install(|| PatchMatrix::compute(k))?);
         Ok(slot.get_or_init(|| computed).clone())
     }
 }
