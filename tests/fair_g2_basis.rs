@@ -263,3 +263,27 @@ fn the_domain_patches_are_regular_with_the_authors_jacobian_range() {
         "[{low}, {high}]"
     );
 }
+
+#[test]
+fn the_basis_does_not_depend_on_the_thread_count() {
+    // computed inside pools of one and two threads: bit-identical (faer would split its
+    // factorizations by the pool's size)
+    let in_pool = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| PatchMatrix::compute(5).unwrap())
+    };
+    let (one, two) = (in_pool(1), in_pool(2));
+    let m = &one.matrix;
+    for i in 0..m.nrows() {
+        for j in 0..m.ncols() {
+            assert_eq!(
+                m[(i, j)].to_bits(),
+                two.matrix[(i, j)].to_bits(),
+                "({i}, {j})"
+            );
+        }
+    }
+}

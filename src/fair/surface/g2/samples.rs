@@ -53,6 +53,7 @@ pub fn g2_samples(mesh: &PolygonMesh, samples: u32, memory: MemoryBudget) -> Res
             continue;
         }
         let base = out.positions.len() as u32;
+        let mut grid: Vec<Option<f64>> = Vec::with_capacity(n * n);
         for j in 0..n {
             for i in 0..n {
                 let (u, v) = (i as f64 / samples as f64, j as f64 / samples as f64);
@@ -60,14 +61,34 @@ pub fn g2_samples(mesh: &PolygonMesh, samples: u32, memory: MemoryBudget) -> Res
                     .evaluate(f, &mesh.positions, u, v)
                     .ok_or_else(|| Error::InvalidInput(format!("face {f} has no patch")))?;
                 out.positions.push([d[0][0], d[1][0], d[2][0]]);
-                match mean_curvature(&d) {
-                    Some(h) => quality.push(h),
-                    None => {
-                        degenerate.push(base + (j * n + i) as u32);
-                        quality.push(0.0);
-                    }
-                }
+                grid.push(mean_curvature(&d));
                 uvs.coords.push([u, v]);
+            }
+        }
+        // a degenerate sample (no tangent plane) takes its regular grid neighbours' mean,
+        // as the Catmull–Clark samples do
+        for j in 0..n {
+            for i in 0..n {
+                let h = grid[j * n + i].unwrap_or_else(|| {
+                    degenerate.push(base + (j * n + i) as u32);
+                    let around = [
+                        (i.wrapping_sub(1), j),
+                        (i + 1, j),
+                        (i, j.wrapping_sub(1)),
+                        (i, j + 1),
+                    ];
+                    let regular: Vec<f64> = around
+                        .iter()
+                        .filter(|&&(a, b)| a < n && b < n)
+                        .filter_map(|&(a, b)| grid[b * n + a])
+                        .collect();
+                    if regular.is_empty() {
+                        0.0
+                    } else {
+                        regular.iter().sum::<f64>() / regular.len() as f64
+                    }
+                });
+                quality.push(h);
             }
         }
         let id = |i: usize, j: usize| base + (j * n + i) as u32;

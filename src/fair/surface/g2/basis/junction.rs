@@ -146,8 +146,8 @@ fn residual(
 /// Solves sector `sector`'s domain patch and junction functions.
 ///
 /// # Errors
-/// [`Error::Solver`]-like [`Error::InvalidInput`] if Gauss–Newton does not bring the side
-/// relations to round-off (it does for 3 ≤ k ≤ 16: tested).
+/// [`Error::InvalidInput`] if Gauss–Newton does not bring the side relations to round-off
+/// (it does for 3 ≤ k ≤ 16: tested).
 pub fn sector_domain(net: &DomainNet, sector: usize) -> Result<SectorDomain> {
     let k = net.valence;
     let curves: Vec<[Auxiliary; 2]> = (0..k).map(|s| domain_auxiliary(net, s)).collect();

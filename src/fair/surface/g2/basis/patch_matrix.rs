@@ -136,12 +136,24 @@ fn triharmonic(k: usize, sectors: &[SectorDomain]) -> Result<Mat<f64>> {
 }
 
 impl PatchMatrix {
-    /// Computes valence k's basis (3 ≤ k ≤ 16; 4 gives the regular case, a check).
+    /// Computes valence k's basis (3 ≤ k ≤ 16; 4 gives the regular case, a check), on one
+    /// thread: faer splits its dense factorizations by the pool's size, and the basis must
+    /// not depend on it (the optimum would differ in its last bits from one machine, or
+    /// RAYON_NUM_THREADS, to another; tested).
     ///
     /// # Errors
     /// [`Error::InvalidInput`] for another k, or if a solve fails (it does not for these
     /// valences: tested).
     pub fn compute(k: usize) -> Result<PatchMatrix> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .map_err(|e| Error::InvalidInput(format!("a thread for the G² basis: {e}")))?;
+        pool.install(|| Self::compute_here(k))
+    }
+
+    /// [`PatchMatrix::compute`] on the current thread pool.
+    fn compute_here(k: usize) -> Result<PatchMatrix> {
         if !(3..=MAX_SPECIAL_VALENCE).contains(&k) {
             return Err(Error::InvalidInput(format!(
                 "special elements have valence 3 to {MAX_SPECIAL_VALENCE}, not {k}"
@@ -194,14 +206,7 @@ impl PatchMatrix {
         if let Some(m) = slot.get() {
             return Ok(m.clone());
         }
-        // On one thread: faer splits its dense factorizations by the pool's size, and the
-        // basis must not depend on it (the optimum would differ in the last bits from one
-        // machine, or RAYON_NUM_THREADS, to another).
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(1)
-            .build()
-            .map_err(|e| Error::InvalidInput(format!("a thread for the G² basis: {e}")))?;
-        let computed = Arc::new(pool.install(|| PatchMatrix::compute(k))?);
+        let computed = Arc::new(PatchMatrix::compute(k)?);
         Ok(slot.get_or_init(|| computed).clone())
     }
 }
