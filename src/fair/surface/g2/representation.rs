@@ -8,13 +8,14 @@
 
 use super::basis::bernstein::{bernstein_derivatives, COEFFICIENTS, ORDER};
 use super::basis::domain_derivatives::InverseChainRule;
-use super::basis::patch_matrix::{map_derivatives, PatchMatrix, ORDERS};
+use super::basis::patch_matrix::{map_derivatives, PatchMatrix};
 use super::sabin_net::SabinNet;
 use super::surface::{FacePatch, G2Surface};
 use crate::error::{Error, Result};
 use crate::fair::surface::quadrature::gauss_legendre;
 use crate::fair::surface::representation::{
     push_bicubic_points, QuadraturePoint, Representation, RepresentationOptions, DERIVATIVES,
+    DERIVATIVE_ORDERS,
 };
 use crate::mesh::PolygonMesh;
 
@@ -59,7 +60,7 @@ fn push_special_points(
             let rows: Vec<[f64; DERIVATIVES]> = (0..COEFFICIENTS)
                 .map(|i| {
                     let (a, b) = (i / ORDER, i % ORDER);
-                    chain.apply(&ORDERS.map(|(ru, rv)| bu[ru][a] * bv[rv][b]))
+                    chain.apply(&DERIVATIVE_ORDERS.map(|(ru, rv)| bu[ru][a] * bv[rv][b]))
                 })
                 .collect();
             let coefficients = columns

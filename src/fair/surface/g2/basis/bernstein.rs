@@ -10,43 +10,10 @@ pub const ORDER: usize = DEGREE + 1;
 pub const COEFFICIENTS: usize = ORDER * ORDER;
 
 /// `out[r][i]`: the r-th derivative (r = 0..=3) of the degree-9 Bernstein polynomial Bᵢ at
-/// t, from the derivatives of lower-degree Bernstein polynomials: d/dt Bᵢⁿ = n (Bᵢ₋₁ⁿ⁻¹ −
-/// Bᵢⁿ⁻¹).
+/// t ([`super::polynomial::basis`] in fixed-size arrays).
 pub fn bernstein_derivatives(t: f64) -> [[f64; ORDER]; 4] {
-    // basis[n][i] = Bᵢⁿ(t) for n = DEGREE − 3 ..= DEGREE
-    let basis = |n: usize| -> Vec<f64> {
-        let mut b = vec![0.0; n + 1];
-        b[0] = 1.0;
-        for m in 1..=n {
-            for i in (0..=m).rev() {
-                let left = if i > 0 { b[i - 1] * t } else { 0.0 };
-                b[i] = b[i] * (1.0 - t) + left;
-            }
-        }
-        b
-    };
-    let mut out = [[0.0; ORDER]; 4];
-    for (r, row) in out.iter_mut().enumerate() {
-        let n = DEGREE - r;
-        let lower = basis(n);
-        // r-th derivative: n!/(n−r)! Σ_k (−1)^(r−k) C(r, k) B_{i−k}^{n−r}
-        let falling: f64 = (0..r).map(|q| (DEGREE - q) as f64).product();
-        for (i, value) in row.iter_mut().enumerate() {
-            let mut sum = 0.0;
-            for k in 0..=r {
-                if i >= k && i - k <= n {
-                    let sign = if (r - k) % 2 == 0 { 1.0 } else { -1.0 };
-                    sum += sign * binomial(r, k) * lower[i - k];
-                }
-            }
-            *value = falling * sum;
-        }
-    }
-    out
-}
-
-fn binomial(n: usize, k: usize) -> f64 {
-    (0..k).fold(1.0, |acc, q| acc * (n - q) as f64 / (q + 1) as f64)
+    let rows = super::polynomial::basis(DEGREE, t, 3);
+    std::array::from_fn(|r| std::array::from_fn(|i| rows[r][i]))
 }
 
 #[cfg(test)]

@@ -20,6 +20,7 @@ use super::domain_net::{DomainNet, PER_SECTOR};
 use super::junction::{sector_domain, SectorDomain};
 use super::space::{unknowns, Conditions};
 use crate::error::{Error, Result};
+use crate::fair::surface::representation::DERIVATIVE_ORDERS;
 use crate::linalg::constrained::minimize_with_equalities;
 
 /// Largest valence with a special element.
@@ -40,19 +41,6 @@ pub struct PatchMatrix {
     pub inner_dimension: usize,
 }
 
-/// (ru, rv) of the nine derivatives in [`super::domain_derivatives::Derivatives`] order.
-pub const ORDERS: [(usize, usize); 9] = [
-    (1, 0),
-    (0, 1),
-    (2, 0),
-    (1, 1),
-    (0, 2),
-    (3, 0),
-    (2, 1),
-    (1, 2),
-    (0, 3),
-];
-
 /// Composite 2-point Gauss–Legendre rule on `intervals` equal intervals of [0, 1].
 pub fn composite_gauss(intervals: usize) -> Vec<(f64, f64)> {
     let h = 1.0 / intervals as f64;
@@ -66,7 +54,7 @@ pub fn composite_gauss(intervals: usize) -> Vec<(f64, f64)> {
 }
 
 /// Derivatives of orders 0–3 of a degree-(9, 9) patch with coefficients `c` at (u, v):
-/// value then the nine of [`ORDERS`].
+/// value then the nine of [`DERIVATIVE_ORDERS`].
 pub fn patch_derivatives(c: &[f64], u: f64, v: f64) -> [f64; 10] {
     let (bu, bv) = (bernstein_derivatives(u), bernstein_derivatives(v));
     let mut out = [0.0; 10];
@@ -77,7 +65,7 @@ pub fn patch_derivatives(c: &[f64], u: f64, v: f64) -> [f64; 10] {
                 continue;
             }
             out[0] += bu[0][a] * bv[0][b] * x;
-            for (o, (ru, rv)) in ORDERS.iter().enumerate() {
+            for (o, (ru, rv)) in DERIVATIVE_ORDERS.iter().enumerate() {
                 out[o + 1] += bu[*ru][a] * bv[*rv][b] * x;
             }
         }
@@ -114,7 +102,7 @@ fn triharmonic(k: usize, sectors: &[SectorDomain]) -> Result<Mat<f64>> {
                 let mut gy = [0.0; COEFFICIENTS];
                 for a in 0..ORDER {
                     for b in 0..ORDER {
-                        let p = ORDERS.map(|(ru, rv)| bu[ru][a] * bv[rv][b]);
+                        let p = DERIVATIVE_ORDERS.map(|(ru, rv)| bu[ru][a] * bv[rv][b]);
                         let f = chain.apply(&p);
                         // ∇Δf = (f_xxx + f_xyy, f_xxy + f_yyy)
                         gx[ORDER * a + b] = f[5] + f[7];
