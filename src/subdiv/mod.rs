@@ -28,6 +28,7 @@ pub use options::{
 pub use patches::{
     limit_surface, Patch, PatchOptions, PatchSurface, SurfacePoint, DEFAULT_MAX_STENCIL_WEIGHTS,
 };
+pub(crate) use sample::{assemble, grid_points, grid_samples};
 pub use sample::{sample_limit, LimitSamples, SampleOptions, MAX_SAMPLES};
 pub use uniform::{refine_uniform, refined_face_count, BYTES_PER_REFINED_FACE, MAX_LEVELS};
 

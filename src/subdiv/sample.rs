@@ -5,7 +5,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::mesh::PolygonMesh;
-use crate::subdiv::{curvature, PatchSurface, SurfacePoint};
+use crate::subdiv::{curvature, Derivatives, PatchSurface, SurfacePoint};
 
 /// Options of [`sample_limit`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -52,17 +52,22 @@ pub fn sample_limit(surface: &PatchSurface, options: &SampleOptions) -> Result<L
             "samples = {k}; it must be between 1 and {MAX_SAMPLES}"
         )));
     }
-    let n = (k + 1) as usize;
     // Ptex faces on rayon's threads, assembled in order.
     let faces: Vec<Option<PtexSamples>> = (0..surface.ptex_face_count() as u32)
         .into_par_iter()
         .map(|ptex| sample_ptex(surface, ptex, k))
         .collect::<Result<_>>()?;
+    Ok(assemble(faces.into_iter().flatten(), k))
+}
+
+/// The samples' mesh: each face's (k + 1)² grid joined into k × k quads, in order.
+pub(crate) fn assemble(faces: impl IntoIterator<Item = PtexSamples>, k: u32) -> LimitSamples {
+    let n = (k + 1) as usize;
     let mut mesh = PolygonMesh::default();
     let mut quality = Vec::new();
     let mut uvs = crate::mesh::CornerUvs::default();
     let mut degenerate = Vec::new();
-    for face in faces.into_iter().flatten() {
+    for face in faces {
         let base = mesh.positions.len() as u32;
         degenerate.extend(face.degenerate.iter().map(|&i| base + i));
         mesh.positions.extend(face.positions);
@@ -79,12 +84,20 @@ pub fn sample_limit(surface: &PatchSurface, options: &SampleOptions) -> Result<L
     }
     mesh.quality = Some(quality);
     mesh.uvs = Some(uvs);
-    Ok(LimitSamples { mesh, degenerate })
+    LimitSamples { mesh, degenerate }
+}
+
+/// The grid points (u, v) = (i/k, j/k) of one face, row by row.
+pub(crate) fn grid_points(k: u32) -> Vec<(f64, f64)> {
+    let n = (k + 1) as usize;
+    (0..n * n)
+        .map(|i| ((i % n) as f64 / k as f64, (i / n) as f64 / k as f64))
+        .collect()
 }
 
 /// The (k + 1)² samples of one ptex face, row by row; degenerate ones (listed by local
 /// index) get the mean curvature of their regular neighbours.
-struct PtexSamples {
+pub(crate) struct PtexSamples {
     positions: Vec<[f64; 3]>,
     quality: Vec<f64>,
     uvs: Vec<[f64; 2]>,
@@ -93,25 +106,32 @@ struct PtexSamples {
 
 /// Samples ptex face `ptex` on a k × k grid; `None` where the face has no limit surface.
 fn sample_ptex(surface: &PatchSurface, ptex: u32, k: u32) -> Result<Option<PtexSamples>> {
-    let n = (k + 1) as usize;
-    let points: Vec<SurfacePoint> = (0..n * n)
-        .map(|i| SurfacePoint {
+    let points: Vec<SurfacePoint> = grid_points(k)
+        .into_iter()
+        .map(|(u, v)| SurfacePoint {
             ptex_face: ptex,
-            u: (i % n) as f64 / k as f64,
-            v: (i / n) as f64 / k as f64,
+            u,
+            v,
         })
         .collect();
     if points.iter().any(|p| surface.locate(p).is_err()) {
         return Ok(None);
     }
+    Ok(Some(grid_samples(k, &surface.evaluate(&points)?)))
+}
+
+/// One face's samples from the derivatives at its [`grid_points`]: mean curvature as
+/// quality, a degenerate point's taken from its regular grid neighbours.
+pub(crate) fn grid_samples(k: u32, derivatives: &[Derivatives]) -> PtexSamples {
+    let n = (k + 1) as usize;
     let mut out = PtexSamples {
         positions: Vec::with_capacity(n * n),
         quality: Vec::with_capacity(n * n),
         uvs: Vec::with_capacity(n * n),
         degenerate: Vec::new(),
     };
-    for (i, (p, d)) in points.iter().zip(surface.evaluate(&points)?).enumerate() {
-        match curvature(&d) {
+    for (i, ((u, v), d)) in grid_points(k).into_iter().zip(derivatives).enumerate() {
+        match curvature(d) {
             Ok(c) => out.quality.push(c.mean),
             Err(_) => {
                 out.degenerate.push(i as u32);
@@ -119,7 +139,7 @@ fn sample_ptex(surface: &PatchSurface, ptex: u32, k: u32) -> Result<Option<PtexS
             }
         }
         out.positions.push(d.position);
-        out.uvs.push([p.u, p.v]);
+        out.uvs.push([u, v]);
     }
     for &g in &out.degenerate {
         let (i, j) = ((g as usize % n) as i64, (g as usize / n) as i64);
@@ -147,5 +167,5 @@ fn sample_ptex(surface: &PatchSurface, ptex: u32, k: u32) -> Result<Option<PtexS
         }
         out.quality[g as usize] = if count > 0 { sum / count as f64 } else { 0.0 };
     }
-    Ok(Some(out))
+    out
 }

@@ -5,7 +5,7 @@
 use std::collections::{HashMap, VecDeque};
 
 use crate::error::{Error, Result};
-use crate::fair::surface::g2::sabin_net::{directed_edges, SabinNet};
+use crate::fair::surface::g2::sabin_net::{directed_edges, first_faces, SabinNet};
 use crate::fair::SurfaceKind;
 use crate::mesh::PolygonMesh;
 
@@ -178,14 +178,7 @@ pub fn condition_violation(
 /// The G² surface's extra condition (see [`condition_violation`]).
 fn g2_violation(mesh: &PolygonMesh, topo: &MeshTopology, special: &[bool]) -> Option<String> {
     let edges = directed_edges(mesh);
-    let mut first_face = vec![usize::MAX; mesh.vertex_count()];
-    for (f, face) in mesh.faces().enumerate() {
-        for &v in face {
-            if first_face[v as usize] == usize::MAX {
-                first_face[v as usize] = f;
-            }
-        }
-    }
+    let (first_face, _) = first_faces(mesh);
     for c in topo.special_vertices() {
         let k = topo.valence(c as usize);
         let net = match SabinNet::new(mesh, &edges, c, first_face[c as usize], k) {

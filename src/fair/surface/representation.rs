@@ -209,23 +209,8 @@ impl PatchRepresentation {
         special: &[bool],
         options: &RepresentationOptions,
     ) -> Result<Self> {
-        let c_ok = |c: f64| c.is_finite() && c > 0.0;
-        if !c_ok(options.c_ordinary) || !c_ok(options.c_special) {
-            return Err(Error::InvalidInput(format!(
-                "Cᵢ must be positive and finite (ordinary {}, special {})",
-                options.c_ordinary, options.c_special
-            )));
-        }
-        if boundary.len() != mesh.vertex_count() || special.len() != mesh.vertex_count() {
-            return Err(Error::InvalidInput(
-                "boundary and special flags must have one entry per vertex".into(),
-            ));
-        }
-        if let Some(f) = mesh.faces().position(|f| f.len() != 4) {
-            return Err(Error::InvalidInput(format!(
-                "face {f} is not a quad; refine first (fair::prepare)"
-            )));
-        }
+        check_weights(options)?;
+        check_quad_mesh(mesh, boundary, special)?;
         let rule = gauss_legendre(options.nodes)?;
         let surface: PatchSurface = limit_surface(
             mesh,
@@ -281,6 +266,37 @@ impl PatchRepresentation {
             points,
         })
     }
+}
+
+/// Refuses Cᵢ that are not positive and finite (both representations).
+pub(crate) fn check_weights(options: &RepresentationOptions) -> Result<()> {
+    let c_ok = |c: f64| c.is_finite() && c > 0.0;
+    if !c_ok(options.c_ordinary) || !c_ok(options.c_special) {
+        return Err(Error::InvalidInput(format!(
+            "Cᵢ must be positive and finite (ordinary {}, special {})",
+            options.c_ordinary, options.c_special
+        )));
+    }
+    Ok(())
+}
+
+/// Refuses flags of the wrong length and a face that is not a quad (both surfaces).
+pub(crate) fn check_quad_mesh(
+    mesh: &PolygonMesh,
+    boundary: &[bool],
+    special: &[bool],
+) -> Result<()> {
+    if boundary.len() != mesh.vertex_count() || special.len() != mesh.vertex_count() {
+        return Err(Error::InvalidInput(
+            "boundary and special flags must have one entry per vertex".into(),
+        ));
+    }
+    if let Some(f) = mesh.faces().position(|f| f.len() != 4) {
+        return Err(Error::InvalidInput(format!(
+            "face {f} is not a quad; refine first (fair::prepare)"
+        )));
+    }
+    Ok(())
 }
 
 /// Appends the quadrature points of one bicubic B-spline patch (its 16 control points'

@@ -14,8 +14,8 @@ use super::surface::{FacePatch, G2Surface};
 use crate::error::{Error, Result};
 use crate::fair::surface::quadrature::gauss_legendre;
 use crate::fair::surface::representation::{
-    push_bicubic_points, QuadraturePoint, Representation, RepresentationOptions, DERIVATIVES,
-    DERIVATIVE_ORDERS,
+    check_weights, push_bicubic_points, QuadraturePoint, Representation, RepresentationOptions,
+    DERIVATIVES, DERIVATIVE_ORDERS,
 };
 use crate::mesh::PolygonMesh;
 
@@ -105,13 +105,7 @@ impl G2Representation {
         special: &[bool],
         options: &RepresentationOptions,
     ) -> Result<Self> {
-        let c_ok = |c: f64| c.is_finite() && c > 0.0;
-        if !c_ok(options.c_ordinary) || !c_ok(options.c_special) {
-            return Err(Error::InvalidInput(format!(
-                "Cᵢ must be positive and finite (ordinary {}, special {})",
-                options.c_ordinary, options.c_special
-            )));
-        }
+        check_weights(options)?;
         let rule = gauss_legendre(options.nodes)?;
         let surface = G2Surface::new(mesh, boundary, special, options.memory)?;
         let mut points = Vec::new();

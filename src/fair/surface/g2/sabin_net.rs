@@ -22,6 +22,22 @@ pub fn directed_edges(mesh: &PolygonMesh) -> DirectedEdges {
     out
 }
 
+/// Per vertex, the first face that holds it (`usize::MAX` if none) and the number of faces
+/// that do (the valence of an interior vertex): where a special vertex's net starts.
+pub fn first_faces(mesh: &PolygonMesh) -> (Vec<usize>, Vec<usize>) {
+    let mut first = vec![usize::MAX; mesh.vertex_count()];
+    let mut count = vec![0usize; mesh.vertex_count()];
+    for (f, face) in mesh.faces().enumerate() {
+        for &v in face {
+            count[v as usize] += 1;
+            if first[v as usize] == usize::MAX {
+                first[v as usize] = f;
+            }
+        }
+    }
+    (first, count)
+}
+
 /// A special vertex's element: its faces (sector s = `faces[s]`) and net.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SabinNet {

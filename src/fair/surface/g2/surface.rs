@@ -8,11 +8,12 @@ use std::sync::Arc;
 
 use super::basis::bernstein::{bernstein_derivatives, COEFFICIENTS, ORDER};
 use super::basis::patch_matrix::PatchMatrix;
-use super::sabin_net::{directed_edges, SabinNet};
+use super::sabin_net::{directed_edges, first_faces, SabinNet};
 use crate::error::{Error, Result};
+use crate::fair::surface::representation::check_quad_mesh;
 use crate::limits::MemoryBudget;
 use crate::mesh::PolygonMesh;
-use crate::subdiv::{limit_surface, PatchOptions, SubdivOptions};
+use crate::subdiv::{limit_surface, Derivatives, PatchOptions, SubdivOptions};
 
 /// What carries the surface over one face.
 #[derive(Debug, Clone)]
@@ -35,9 +36,6 @@ pub struct G2Surface {
     pub bases: Vec<Arc<PatchMatrix>>,
 }
 
-/// Value and derivatives u, v, uu, uv, vv of one coordinate.
-pub type SecondOrder = [f64; 6];
-
 impl G2Surface {
     /// The surface of `mesh` with `special` vertices (interior, valence ≠ 4).
     ///
@@ -52,31 +50,13 @@ impl G2Surface {
         special: &[bool],
         memory: MemoryBudget,
     ) -> Result<G2Surface> {
-        if boundary.len() != mesh.vertex_count() || special.len() != mesh.vertex_count() {
-            return Err(Error::InvalidInput(
-                "boundary and special flags must have one entry per vertex".into(),
-            ));
-        }
-        if let Some(f) = mesh.faces().position(|f| f.len() != 4) {
-            return Err(Error::InvalidInput(format!(
-                "face {f} is not a quad; refine first (fair::prepare)"
-            )));
-        }
+        check_quad_mesh(mesh, boundary, special)?;
         let internal: Vec<bool> = mesh
             .faces()
             .map(|f| f.iter().all(|&v| !boundary[v as usize]))
             .collect();
         let edges = directed_edges(mesh);
-        let mut valence = vec![0usize; mesh.vertex_count()];
-        let mut first_face = vec![usize::MAX; mesh.vertex_count()];
-        for (f, face) in mesh.faces().enumerate() {
-            for &v in face {
-                valence[v as usize] += 1;
-                if first_face[v as usize] == usize::MAX {
-                    first_face[v as usize] = f;
-                }
-            }
-        }
+        let (first_face, valence) = first_faces(mesh);
         let mut faces: Vec<Option<FacePatch>> = vec![None; mesh.face_count()];
         let mut special_elements = Vec::new();
         let mut bases = Vec::new();
@@ -195,35 +175,57 @@ impl G2Surface {
         }
     }
 
-    /// Position and first and second derivatives of face `f`'s patch at (u, v), per
-    /// coordinate, from its Bézier form.
+    /// Position and derivatives to third order of face `f`'s patch at each (u, v) of
+    /// `points` (its Bézier form computed once).
     pub fn evaluate(
         &self,
         f: usize,
         positions: &[[f64; 3]],
-        u: f64,
-        v: f64,
-    ) -> Option<[SecondOrder; 3]> {
-        let (degree, points) = self.bezier(f, positions)?;
-        let (bu, bv) = if degree == 3 {
-            (cubic_bernstein(u), cubic_bernstein(v))
-        } else {
-            let (a, b) = (bernstein_derivatives(u), bernstein_derivatives(v));
-            (a.map(|r| r.to_vec()), b.map(|r| r.to_vec()))
-        };
-        let orders = [(0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)];
-        let n = degree + 1;
-        Some(std::array::from_fn(|c| {
-            orders.map(|(ru, rv)| {
-                let mut s = 0.0;
-                for i in 0..n {
-                    for j in 0..n {
-                        s += bu[ru][i] * bv[rv][j] * points[n * i + j][c];
-                    }
+        points: &[(f64, f64)],
+    ) -> Option<Vec<Derivatives>> {
+        let (degree, control) = self.bezier(f, positions)?;
+        Some(
+            points
+                .iter()
+                .map(|&(u, v)| bezier_derivatives(degree, &control, u, v))
+                .collect(),
+        )
+    }
+}
+
+/// Position and derivatives to third order of the degree-(d, d) Bézier patch `control`
+/// (index (d + 1)·i + j, i along u) at (u, v).
+fn bezier_derivatives(degree: usize, control: &[[f64; 3]], u: f64, v: f64) -> Derivatives {
+    let (bu, bv) = if degree == 3 {
+        (cubic_bernstein(u), cubic_bernstein(v))
+    } else {
+        let (a, b) = (bernstein_derivatives(u), bernstein_derivatives(v));
+        (a.map(|r| r.to_vec()), b.map(|r| r.to_vec()))
+    };
+    let n = degree + 1;
+    let at = |ru: usize, rv: usize| -> [f64; 3] {
+        let mut s = [0.0; 3];
+        for i in 0..n {
+            for j in 0..n {
+                let w = bu[ru][i] * bv[rv][j];
+                for c in 0..3 {
+                    s[c] += w * control[n * i + j][c];
                 }
-                s
-            })
-        }))
+            }
+        }
+        s
+    };
+    Derivatives {
+        position: at(0, 0),
+        du: at(1, 0),
+        dv: at(0, 1),
+        duu: at(2, 0),
+        duv: at(1, 1),
+        dvv: at(0, 2),
+        duuu: at(3, 0),
+        duuv: at(2, 1),
+        duvv: at(1, 2),
+        dvvv: at(0, 3),
     }
 }
 

@@ -107,6 +107,12 @@ fn junction_layout() -> ([[usize; 4]; 4], usize) {
     (offsets, at)
 }
 
+/// Side `side`'s junction functions in the unknowns `z`, at `offsets`.
+fn junction_in(z: &[f64], offsets: [usize; 4], side: Side) -> Junction {
+    let degrees = side.junction_degrees();
+    Junction([0, 1, 2, 3].map(|f| z[offsets[f]..offsets[f] + degrees[f] + 1].to_vec()))
+}
+
 /// The side relations' residuals at unknowns `z`, given the auxiliary jets and the patch's
 /// derivative rows at the identity nodes (per side, node, coordinate / order).
 fn residual(
@@ -118,10 +124,7 @@ fn residual(
     let nodes = identity_nodes();
     let mut out = Vec::with_capacity(4 * 3 * IDENTITY_NODES * 2);
     for (s, side) in Side::ALL.iter().enumerate() {
-        let degrees = side.junction_degrees();
-        let junction = Junction(
-            [0, 1, 2, 3].map(|f| z[offsets[s][f]..offsets[s][f] + degrees[f] + 1].to_vec()),
-        );
+        let junction = junction_in(z, offsets[s], *side);
         for (q, &t) in nodes.iter().enumerate() {
             let j = junction.at(t);
             for c in 0..2 {
@@ -213,11 +216,8 @@ pub fn sector_domain(net: &DomainNet, sector: usize) -> Result<SectorDomain> {
             norm(&r)
         )));
     }
-    let junctions = Side::ALL.map(|side| {
-        let s = Side::ALL.iter().position(|x| *x == side).unwrap_or(0);
-        let degrees = side.junction_degrees();
-        Junction([0, 1, 2, 3].map(|f| z[offsets[s][f]..offsets[s][f] + degrees[f] + 1].to_vec()))
-    });
+    let junctions: [Junction; 4] =
+        std::array::from_fn(|s| junction_in(&z, offsets[s], Side::ALL[s]));
     let patch = [0, 1].map(|c| coons(&z[c * COEFFICIENTS..(c + 1) * COEFFICIENTS]));
     Ok(SectorDomain { patch, junctions })
 }
