@@ -51,6 +51,7 @@ pub use surface::curvature_map::{curvature_samples, surface_samples};
 pub use surface::g2::basis::bernstein::{
     bernstein_derivatives, COEFFICIENTS as SPECIAL_PATCH_COEFFICIENTS,
 };
+pub use surface::g2::basis::disk_cache as g2_basis_cache;
 pub use surface::g2::basis::division_curve::{bezier_derivatives, division_curve, Degree7};
 pub use surface::g2::basis::domain_derivatives::InverseChainRule;
 pub use surface::g2::basis::domain_net::{

@@ -3,6 +3,7 @@
 //! a rectangle of cells) do not break it: β is unique, λ is not, and we return the λ of
 //! minimum norm.
 
+use faer::linalg::solvers::Llt;
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 
@@ -58,43 +59,20 @@ pub fn minimize_with_equalities(
             "constrained solve: right-hand side of wrong length".into(),
         ));
     }
-    let finite =
-        |m: &Mat<f64>| (0..m.nrows()).all(|i| (0..m.ncols()).all(|j| m[(i, j)].is_finite()));
     if !finite(k) || !finite(c) || rhs.iter().chain(d).flatten().any(|v| !v.is_finite()) {
         return Err(Error::InvalidInput(
             "constrained solve: non-finite entry".into(),
         ));
     }
 
-    // SVD of C: C = U S Vᵀ. Row space = V[:, ..rank], null space = V[:, rank..].
-    let (rank, u, s, v) = if p == 0 {
-        (
-            0,
-            Mat::<f64>::zeros(0, 0),
-            vec![],
-            Mat::<f64>::identity(n, n),
-        )
-    } else {
-        let svd = c.svd().map_err(|e| Error::Solver {
-            failure: SolverFailure::NotConverged,
-            detail: format!("SVD of the {p}×{n} constraint matrix: {e:?}"),
-        })?;
-        let sv: Vec<f64> = svd.S().column_vector().iter().copied().collect();
-        let smax = sv.iter().copied().fold(0.0, f64::max);
-        let thresh = p.max(n) as f64 * f64::EPSILON * smax;
-        let rank = sv.iter().filter(|&&x| x > thresh).count();
-        (rank, svd.U().to_owned(), sv, svd.V().to_owned())
-    };
-    let z = v.subcols(rank, n - rank).to_owned();
-    let ztkz = z.transpose() * k * &z;
-    let llt = if n > rank {
-        Some(ztkz.llt(Side::Lower).map_err(|e| Error::Solver {
-            failure: SolverFailure::NotPositiveDefinite,
-            detail: format!("reduced matrix ZᵀKZ of order {}: {e:?}", n - rank),
-        })?)
-    } else {
-        None
-    };
+    let NullSpace {
+        rank,
+        u,
+        s,
+        v,
+        z,
+        llt,
+    } = null_space(k, c)?;
 
     let mut beta = Vec::with_capacity(rhs.len());
     let mut lambda = Vec::with_capacity(rhs.len());
@@ -146,6 +124,140 @@ pub fn minimize_with_equalities(
         rows: p,
         constraint_residual: worst,
     })
+}
+
+/// C = U S Vᵀ with its numerical rank, Z = V[:, rank..] an orthonormal basis of ker C, and
+/// the Cholesky factor of ZᵀKZ (none when ker C = {0}).
+struct NullSpace {
+    rank: usize,
+    u: Mat<f64>,
+    s: Vec<f64>,
+    v: Mat<f64>,
+    z: Mat<f64>,
+    llt: Option<Llt<f64>>,
+}
+
+fn null_space(k: &Mat<f64>, c: &Mat<f64>) -> Result<NullSpace> {
+    let (n, p) = (k.nrows(), c.nrows());
+    // SVD of C: C = U S Vᵀ. Row space = V[:, ..rank], null space = V[:, rank..].
+    let (rank, u, s, v) = if p == 0 {
+        (
+            0,
+            Mat::<f64>::zeros(0, 0),
+            vec![],
+            Mat::<f64>::identity(n, n),
+        )
+    } else {
+        let failed = |e| Error::Solver {
+            failure: SolverFailure::NotConverged,
+            detail: format!("SVD of the {p}×{n} constraint matrix: {e:?}"),
+        };
+        // With at least as many rows as columns the thin SVD has all of V (the null space
+        // needs it) and an n-column U instead of a p × p one.
+        let (u, sv, v) = if p >= n {
+            let svd = c.thin_svd().map_err(failed)?;
+            let sv: Vec<f64> = svd.S().column_vector().iter().copied().collect();
+            (svd.U().to_owned(), sv, svd.V().to_owned())
+        } else {
+            let svd = c.svd().map_err(failed)?;
+            let sv: Vec<f64> = svd.S().column_vector().iter().copied().collect();
+            (svd.U().to_owned(), sv, svd.V().to_owned())
+        };
+        let smax = sv.iter().copied().fold(0.0, f64::max);
+        let thresh = p.max(n) as f64 * f64::EPSILON * smax;
+        let rank = sv.iter().filter(|&&x| x > thresh).count();
+        (rank, u, sv, v)
+    };
+    let z = v.subcols(rank, n - rank).to_owned();
+    let ztkz = z.transpose() * k * &z;
+    let llt = if n > rank {
+        Some(ztkz.llt(Side::Lower).map_err(|e| Error::Solver {
+            failure: SolverFailure::NotPositiveDefinite,
+            detail: format!("reduced matrix ZᵀKZ of order {}: {e:?}", n - rank),
+        })?)
+    } else {
+        None
+    };
+
+    Ok(NullSpace {
+        rank,
+        u,
+        s,
+        v,
+        z,
+        llt,
+    })
+}
+
+/// The minimizers of ½βᵀKβ subject to Cβ = d for every column d of `d` at once (the
+/// problem of [`minimize_with_equalities`] with r = 0, without multipliers): the columns
+/// of B_p + Z (ZᵀKZ)⁻¹ Zᵀ(−K B_p), B_p = V_r S_r⁻¹ U_rᵀ D, by matrix products. Returns the
+/// minimizers (n × columns of d) and the rank of C.
+///
+/// # Errors
+/// As [`minimize_with_equalities`].
+pub fn minimizers_with_equalities(
+    k: &Mat<f64>,
+    c: &Mat<f64>,
+    d: &Mat<f64>,
+) -> Result<(Mat<f64>, usize)> {
+    let (n, p) = (k.nrows(), c.nrows());
+    if k.ncols() != n || c.ncols() != n || d.nrows() != p {
+        return Err(Error::InvalidInput(format!(
+            "constrained solve: K is {}×{}, C is {}×{}, D is {}×{}",
+            k.nrows(),
+            k.ncols(),
+            c.nrows(),
+            c.ncols(),
+            d.nrows(),
+            d.ncols()
+        )));
+    }
+    if !finite(k) || !finite(c) || !finite(d) {
+        return Err(Error::InvalidInput(
+            "constrained solve: non-finite entry".into(),
+        ));
+    }
+    let NullSpace {
+        rank,
+        u,
+        s,
+        v,
+        z,
+        llt,
+    } = null_space(k, c)?;
+    let mut scaled = u.subcols(0, rank).transpose() * d;
+    for (q, sq) in s.iter().take(rank).enumerate() {
+        for j in 0..scaled.ncols() {
+            scaled[(q, j)] /= sq;
+        }
+    }
+    let particular = v.subcols(0, rank) * &scaled;
+    let residual = c * &particular - d;
+    for j in 0..d.ncols() {
+        let dnorm = (0..p).fold(0.0f64, |m, i| m.max(d[(i, j)].abs()));
+        let rnorm = (0..p).fold(0.0f64, |m, i| m.max(residual[(i, j)].abs()));
+        if rnorm > SOLVE * dnorm.max(1.0) {
+            return Err(Error::Solver {
+                failure: SolverFailure::Infeasible,
+                detail: format!(
+                    "equality constraints are inconsistent for column {j}: residual {rnorm:e}"
+                ),
+            });
+        }
+    }
+    let beta = match &llt {
+        Some(llt) => {
+            let gamma = llt.solve(z.transpose() * (k * &particular));
+            &particular - &z * gamma
+        }
+        None => particular,
+    };
+    Ok((beta, rank))
+}
+
+fn finite(m: &Mat<f64>) -> bool {
+    (0..m.ncols()).all(|j| (0..m.nrows()).all(|i| m[(i, j)].is_finite()))
 }
 
 #[cfg(test)]

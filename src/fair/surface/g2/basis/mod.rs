@@ -4,10 +4,12 @@
 //! domain patches δ_s with the junction functions ([`junction`]), the C² space V as linear
 //! conditions ([`space`]), and its Ritz basis, the patch matrix ([`patch_matrix`]); with
 //! the Bernstein forms ([`bernstein`], [`polynomial`]) and the inverse chain rule through δ
-//! ([`domain_derivatives`]).
+//! ([`domain_derivatives`]). The patch matrices are kept on disk between runs
+//! ([`disk_cache`]).
 
 pub(crate) mod auxiliary;
 pub(crate) mod bernstein;
+pub mod disk_cache;
 pub(crate) mod division_curve;
 pub(crate) mod domain_derivatives;
 pub(crate) mod domain_net;

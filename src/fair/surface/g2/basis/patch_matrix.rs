@@ -15,13 +15,14 @@ use std::sync::{Arc, OnceLock};
 use faer::Mat;
 
 use super::bernstein::{bernstein_derivatives, COEFFICIENTS, ORDER};
+use super::disk_cache;
 use super::domain_derivatives::{InverseChainRule, MapDerivatives};
-use super::domain_net::{DomainNet, PER_SECTOR};
+use super::domain_net::DomainNet;
 use super::junction::{sector_domain, SectorDomain};
 use super::space::{unknowns, Conditions};
 use crate::error::{Error, Result};
 use crate::fair::surface::representation::DERIVATIVE_ORDERS;
-use crate::linalg::constrained::minimize_with_equalities;
+use crate::linalg::constrained::minimizers_with_equalities;
 
 /// Largest valence with a special element.
 pub const MAX_SPECIAL_VALENCE: usize = 16;
@@ -155,31 +156,21 @@ impl PatchMatrix {
         let conditions = Conditions::new(k, &sectors);
         let energy = triharmonic(k, &sectors)?;
         let n = unknowns(k);
-        let vertices = 1 + PER_SECTOR * k;
-        let rows = conditions.c.nrows();
-        let rhs: Vec<Vec<f64>> = (0..vertices).map(|_| vec![0.0; n]).collect();
-        let data: Vec<Vec<f64>> = (0..vertices)
-            .map(|v| (0..rows).map(|i| conditions.data[(i, v)]).collect())
-            .collect();
-        let solution =
-            minimize_with_equalities(&energy, &conditions.c, &rhs, &data).map_err(|e| {
+        let (solution, rank) = minimizers_with_equalities(&energy, &conditions.c, &conditions.data)
+            .map_err(|e| {
                 Error::InvalidInput(format!("special element of valence {k}: basis: {e}"))
             })?;
-        let mut matrix = Mat::<f64>::zeros(k * COEFFICIENTS, vertices);
-        for (v, beta) in solution.beta.iter().enumerate() {
-            for i in 0..k * COEFFICIENTS {
-                matrix[(i, v)] = beta[i];
-            }
-        }
+        let matrix = solution.subrows(0, k * COEFFICIENTS).to_owned();
         Ok(PatchMatrix {
             k,
             sectors,
             matrix,
-            inner_dimension: n - solution.rank,
+            inner_dimension: n - rank,
         })
     }
 
-    /// Valence k's basis, computed on first use and shared.
+    /// Valence k's basis, shared by the whole process: read from the disk cache
+    /// ([`disk_cache`]) or else computed on first use (and stored there).
     ///
     /// # Errors
     /// As [`PatchMatrix::compute`].
@@ -194,7 +185,20 @@ impl PatchMatrix {
         if let Some(m) = slot.get() {
             return Ok(m.clone());
         }
-        let computed = Arc::new(PatchMatrix::compute(k)?);
-        Ok(slot.get_or_init(|| computed).clone())
+        let dir = disk_cache::default_dir();
+        let basis = match dir.as_deref().and_then(|d| disk_cache::load(d, k)) {
+            Some(stored) => stored,
+            None => {
+                let computed = PatchMatrix::compute(k)?;
+                if let Some(dir) = &dir {
+                    // Only an optimization: a read-only or full disk costs the next run
+                    // the computation, nothing else.
+                    let _ = disk_cache::store(dir, &computed);
+                }
+                computed
+            }
+        };
+        let basis = Arc::new(basis);
+        Ok(slot.get_or_init(|| basis).clone())
     }
 }
