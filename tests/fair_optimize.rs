@@ -311,3 +311,57 @@ fn fair_optimize_regularization_weights_q_by_c_times_c() {
         assert!(err.contains("regularization"), "{err}");
     }
 }
+
+#[test]
+fn fair_optimize_hessians_at_fewer_nodes_reach_the_same_minimum() {
+    // The author's three-tube mesh on the G² surface with F at 8 × 8 nodes: Newton with
+    // Hessians at 8 × 8, at the default 4 × 4 and at 2 × 2 nodes (F and its gradient at
+    // 8 × 8 throughout) converges to the same minimum; only the steps differ.
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/meshes/kiciak_trojnik3.obj");
+    let mesh = surfkit::mesh::io::read(std::path::Path::new(path)).unwrap();
+    let run = |hessian_nodes| {
+        let options = FairOptions {
+            representation: RepresentationOptions {
+                nodes: 8,
+                ..RepresentationOptions::default()
+            },
+            hessian_nodes,
+            ..FairOptions::default()
+        };
+        optimize(&mesh, &options).unwrap()
+    };
+    let (exact, exact_report) = run(None);
+    assert!(exact_report.newton.converged);
+    let diagonal = {
+        let (lo, hi) = exact.positions.iter().fold(
+            ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+            |(lo, hi), p| {
+                (
+                    std::array::from_fn(|a| lo[a].min(p[a])),
+                    std::array::from_fn(|a| hi[a].max(p[a])),
+                )
+            },
+        );
+        (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f64>().sqrt()
+    };
+    for nodes in [4, 2] {
+        let (out, report) = run(Some(nodes));
+        eprintln!(
+            "Hessians at {nodes}×{nodes}: F {:.12e} ({} iterations; 8×8: F {:.12e}, {})",
+            report.final_terms.f,
+            report.newton.iterations.len(),
+            exact_report.final_terms.f,
+            exact_report.newton.iterations.len()
+        );
+        assert!(report.newton.converged);
+        let (f0, f1) = (exact_report.final_terms.f, report.final_terms.f);
+        assert!((f0 - f1).abs() <= 1e-9 * f0, "F {f0} vs {f1}");
+        let largest = exact
+            .positions
+            .iter()
+            .zip(&out.positions)
+            .flat_map(|(p, q)| (0..3).map(move |a| (p[a] - q[a]).abs()))
+            .fold(0.0f64, f64::max);
+        assert!(largest <= 1e-6 * diagonal, "vertices differ by {largest}");
+    }
+}

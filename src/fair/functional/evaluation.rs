@@ -343,14 +343,19 @@ struct Partial {
     gauss_newton_values: Vec<[[f64; 3]; 3]>,
     /// The point Hessian.
     h: Box<PointMatrix>,
-    /// The patch's points' maps J_p = C_p ⊗ I₃ from vertex to derivative coordinates,
-    /// stacked: 27 rows per point, 3 columns per vertex.
+    /// The point Hessian with rows and columns ordered by coordinate, then derivative.
+    by_coordinate: Box<PointMatrix>,
+    /// The patch's points' coefficient matrices C_p (9 derivatives × m vertices), stacked:
+    /// J_p = C_p ⊗ I₃ is never formed, its zeros would triple the products' work.
     maps: Mat<f64>,
-    /// The same rows multiplied by the points' Hessians: H_p J_p.
+    /// H_p J_p stacked by coordinate: rows (a, p, d) — coordinate a of derivative d at
+    /// point p —, columns (b, l) — coordinate b of vertex l.
     weighted: Mat<f64>,
-    /// The patch's points' Gauss–Newton rows R_p J_p, stacked: 8 rows per point.
+    /// The patch's points' Gauss–Newton rows R_p J_p, stacked: 8 rows per point, columns
+    /// (b, l).
     rows: Mat<f64>,
-    /// The patch matrix Σ_p J_pᵀ H_p J_p over the patch's vertex coordinates.
+    /// The patch matrix Σ_p J_pᵀ H_p J_p over the patch's vertex coordinates, rows and
+    /// columns (a, l).
     local: Mat<f64>,
 }
 
@@ -362,6 +367,7 @@ impl Partial {
             values: vec![[[0.0; 3]; 3]; blocks],
             gauss_newton_values: vec![[[0.0; 3]; 3]; gauss_newton_blocks],
             h: Box::new([[0.0; VARS]; VARS]),
+            by_coordinate: Box::new([[0.0; VARS]; VARS]),
             maps: Mat::new(),
             weighted: Mat::new(),
             rows: Mat::new(),
@@ -489,6 +495,13 @@ impl<'a, R: Representation> Functional<'a, R> {
         &self.free_index
     }
 
+    /// Whether `other` has the same unknowns and the same Hessian blocks (the same mesh
+    /// and fixed vertices, whatever the quadrature nodes), so that its Hessians can serve
+    /// Newton steps on this F.
+    pub fn same_unknowns<S: Representation>(&self, other: &Functional<'_, S>) -> bool {
+        self.free_index == other.free_index && self.blocks == other.blocks
+    }
+
     /// S, Q and F at `positions` (eq. 2–5).
     pub fn value(&self, positions: &[[f64; 3]]) -> Terms {
         let partial: Vec<(f64, f64)> = self
@@ -612,26 +625,43 @@ impl<'a, R: Representation> Functional<'a, R> {
     ) {
         self.patch_points(group, positions, kind, acc);
         if kind.exact() {
-            // Σ_p J_pᵀ (H_p J_p): one dense product over the stacked points.
-            let (left, right) = (acc.maps.as_ref(), acc.weighted.as_ref());
-            add_product(group, left, right, &mut acc.local, &mut acc.values);
+            // Σ_p J_pᵀ (H_p J_p) = Σ_p (C_p ⊗ I₃)ᵀ (H_p J_p): per coordinate a, one dense
+            // product of the stacked C_p with the rows of coordinate a.
+            let n = 3 * acc.maps.ncols();
+            let stacked = acc.maps.nrows();
+            acc.local.resize_with(n, n, |_, _| 0.0);
+            for a in 0..3 {
+                matmul(
+                    acc.local.as_mut().subrows_mut(a * (n / 3), n / 3),
+                    Accum::Replace,
+                    acc.maps.transpose(),
+                    acc.weighted.as_ref().subrows(a * stacked, stacked),
+                    1.0,
+                    Par::Seq,
+                );
+            }
+            scatter_blocks(group, &acc.local, &mut acc.values);
         }
         if kind.gauss_newton() {
             // Σ_p (R_p J_p)ᵀ (R_p J_p): one dense product over the stacked rows.
             let rows = acc.rows.as_ref();
-            add_product(
-                group,
+            let n = rows.ncols();
+            acc.local.resize_with(n, n, |_, _| 0.0);
+            matmul(
+                acc.local.as_mut(),
+                Accum::Replace,
+                rows.transpose(),
                 rows,
-                rows,
-                &mut acc.local,
-                &mut acc.gauss_newton_values,
+                1.0,
+                Par::Seq,
             );
+            scatter_blocks(group, &acc.local, &mut acc.gauss_newton_values);
         }
     }
 
     /// Adds the patch's points' terms and gradients to `acc` and stacks, per `kind`, the
-    /// maps J_p (`acc.maps`) with H_p J_p (`acc.weighted`, faer's SIMD product per point)
-    /// for the exact Hessian, and the Gauss–Newton rows mapped to vertex coordinates,
+    /// coefficient matrices C_p (`acc.maps`) with H_p J_p (`acc.weighted`, faer's SIMD
+    /// products per point) for the exact Hessian, and the Gauss–Newton rows mapped to vertex coordinates,
     /// R_p J_p (`acc.rows`, 8 rows per point instead of the exact Hessian's 27).
     fn patch_points(
         &self,
@@ -643,11 +673,10 @@ impl<'a, R: Representation> Functional<'a, R> {
         let points = self.rep.points();
         let m = points[group.points.start].vertices.len();
         let (exact, rows) = (kind.exact(), kind.gauss_newton());
+        let stacked = DERIVATIVES * group.points.len();
         if exact {
-            let n = VARS * group.points.len();
-            acc.maps.resize_with(n, 3 * m, |_, _| 0.0);
-            acc.maps.fill(0.0);
-            acc.weighted.resize_with(n, 3 * m, |_, _| 0.0);
+            acc.maps.resize_with(stacked, m, |_, _| 0.0);
+            acc.weighted.resize_with(3 * stacked, 3 * m, |_, _| 0.0);
         }
         if rows {
             acc.rows
@@ -678,23 +707,38 @@ impl<'a, R: Representation> Functional<'a, R> {
                 map_rows(p, &point_rows, RESIDUALS * i, &mut acc.rows);
             }
             if exact {
-                let top = VARS * i;
+                let top = DERIVATIVES * i;
                 for (l, c) in p.coefficients.iter().enumerate() {
                     for (d, &cd) in c.iter().enumerate() {
-                        for a in 0..3 {
-                            acc.maps[(top + 3 * d + a, 3 * l + a)] = cd;
-                        }
+                        acc.maps[(top + d, l)] = cd;
                     }
                 }
-                let h = MatRef::from_row_major_slice(acc.h.as_flattened(), VARS, VARS);
-                matmul(
-                    acc.weighted.as_mut().subrows_mut(top, VARS),
-                    Accum::Replace,
-                    h,
-                    acc.maps.as_ref().subrows(top, VARS),
-                    1.0,
-                    Par::Seq,
-                );
+                // H_p (C_p ⊗ I₃): block (a, b) of H_p (derivatives × derivatives) times C_p.
+                for (i, row) in acc.h.iter().enumerate() {
+                    for (j, &x) in row.iter().enumerate() {
+                        acc.by_coordinate[DERIVATIVES * (i % 3) + i / 3]
+                            [DERIVATIVES * (j % 3) + j / 3] = x;
+                    }
+                }
+                let h = MatRef::from_row_major_slice(acc.by_coordinate.as_flattened(), VARS, VARS);
+                let c = acc.maps.as_ref().subrows(top, DERIVATIVES);
+                for a in 0..3 {
+                    for b in 0..3 {
+                        matmul(
+                            acc.weighted.as_mut().submatrix_mut(
+                                a * stacked + top,
+                                b * m,
+                                DERIVATIVES,
+                                m,
+                            ),
+                            Accum::Replace,
+                            h.submatrix(DERIVATIVES * a, DERIVATIVES * b, DERIVATIVES, DERIVATIVES),
+                            c,
+                            1.0,
+                            Par::Seq,
+                        );
+                    }
+                }
             }
         }
     }
@@ -764,6 +808,7 @@ pub struct Hessians {
 /// Point rows (27 derivative coordinates each) mapped to the point's vertex coordinates,
 /// R_p J_p, into `out` from row `top`.
 fn map_rows(p: &QuadraturePoint, rows: &ResidualRows, top: usize, out: &mut Mat<f64>) {
+    let m = p.coefficients.len();
     for (r, row) in rows.iter().enumerate() {
         for (l, c) in p.coefficients.iter().enumerate() {
             for a in 0..3 {
@@ -771,32 +816,16 @@ fn map_rows(p: &QuadraturePoint, rows: &ResidualRows, top: usize, out: &mut Mat<
                 for (d, &cd) in c.iter().enumerate() {
                     sum += cd * row[3 * d + a];
                 }
-                out[(top + r, 3 * l + a)] = sum;
+                out[(top + r, a * m + l)] = sum;
             }
         }
     }
 }
 
-/// Adds the patch matrix `leftᵀ right` (over the patch vertices' coordinates, computed in
-/// `local` by one dense product) to the sparse blocks of its free vertex pairs.
-fn add_product(
-    group: &Group,
-    left: MatRef<f64>,
-    right: MatRef<f64>,
-    local: &mut Mat<f64>,
-    values: &mut [[[f64; 3]; 3]],
-) {
-    let n = left.ncols();
-    local.resize_with(n, n, |_, _| 0.0);
-    matmul(
-        local.as_mut(),
-        Accum::Replace,
-        left.transpose(),
-        right,
-        1.0,
-        Par::Seq,
-    );
-    let m = n / 3;
+/// Adds the patch matrix `local` (rows and columns (a, l): coordinate a of patch vertex
+/// l) to the sparse blocks of its free vertex pairs.
+fn scatter_blocks(group: &Group, local: &Mat<f64>, values: &mut [[[f64; 3]; 3]]) {
+    let m = local.nrows() / 3;
     for k in 0..m {
         for l in k..m {
             let slot = group.slots[k * m + l];
@@ -806,7 +835,7 @@ fn add_product(
             let block = &mut values[slot as usize];
             for (a, row) in block.iter_mut().enumerate() {
                 for (b, x) in row.iter_mut().enumerate() {
-                    *x += local[(3 * k + a, 3 * l + b)];
+                    *x += local[(a * m + k, b * m + l)];
                 }
             }
         }

@@ -3,7 +3,9 @@
 //! (one source of truth for "the mean curvature is more even"), for summaries and reports.
 
 use crate::error::{Error, Result};
-use crate::fair::{fixed_vertices, FairOptions, Functional, MeshTopology, SurfaceRepresentation};
+use crate::fair::{
+    fixed_vertices, FairOptions, Functional, MeshTopology, Representation, SurfaceRepresentation,
+};
 use crate::mesh::PolygonMesh;
 
 /// S and the area-weighted mean and standard deviation of H, before and after.
@@ -44,14 +46,29 @@ pub fn shape_change(
     let rep =
         SurfaceRepresentation::new(prepared, &topo.boundary, &special, &options.representation)?;
     let functional = Functional::new(&rep, &fixed, c);
-    let (mean_h_before, std_h_before) = functional.mean_curvature_statistics(&prepared.positions);
-    let (mean_h_after, std_h_after) = functional.mean_curvature_statistics(&optimized.positions);
-    Ok(ShapeChange {
-        s_before: functional.value(&prepared.positions).s,
-        s_after: functional.value(&optimized.positions).s,
-        mean_h_before,
-        mean_h_after,
-        std_h_before,
-        std_h_after,
-    })
+    Ok(ShapeChange::measured(
+        &functional,
+        &prepared.positions,
+        &optimized.positions,
+    ))
+}
+
+impl ShapeChange {
+    /// S and the statistics of H under `functional` at `before` and `after`.
+    pub fn measured<R: Representation>(
+        functional: &Functional<'_, R>,
+        before: &[[f64; 3]],
+        after: &[[f64; 3]],
+    ) -> ShapeChange {
+        let (mean_h_before, std_h_before) = functional.mean_curvature_statistics(before);
+        let (mean_h_after, std_h_after) = functional.mean_curvature_statistics(after);
+        ShapeChange {
+            s_before: functional.value(before).s,
+            s_after: functional.value(after).s,
+            mean_h_before,
+            mean_h_after,
+            std_h_before,
+            std_h_after,
+        }
+    }
 }

@@ -250,6 +250,9 @@ type NewtonStep = (Trial, Vec<f64>, StepKind);
 /// The evaluations one iteration may make, with their counters.
 struct Stepper<'a, 'r, R: Representation> {
     functional: &'a Functional<'r, R>,
+    /// Where the Hessians come from: `functional` itself, or the same F at fewer
+    /// quadrature nodes ([`newton_observed_with_hessians`]).
+    curvature: &'a Functional<'r, R>,
     factorizer: Factorizer,
     report: NewtonReport,
 }
@@ -286,7 +289,10 @@ impl<R: Representation> Stepper<'_, '_, R> {
 
     fn hessians(&mut self, positions: &[[f64; 3]], kind: HessianKind) -> Hessians {
         let clock = Instant::now();
-        let out = self.functional.hessians(positions, kind);
+        let mut out = self.curvature.hessians(positions, kind);
+        if !std::ptr::eq(self.curvature, self.functional) {
+            (out.terms, out.gradient) = self.functional.gradient(positions);
+        }
         if out.exact.is_some() {
             self.report.hessian_evaluations += 1;
         }
@@ -472,6 +478,29 @@ pub fn newton_observed<R: Representation>(
     options: &NewtonOptions,
     observe: &mut dyn FnMut(&Iteration) -> ControlFlow<()>,
 ) -> Result<NewtonReport> {
+    newton_observed_with_hessians(functional, functional, positions, options, observe)
+}
+
+/// [`newton_observed`] with the Hessians of `curvature` — the same F integrated with fewer
+/// quadrature nodes, as the author's program does (its Hessians at 6 × 6 nodes, F at
+/// 8 × 8) — and F and its gradient of `functional`: the minimum is `functional`'s, the
+/// Newton steps are slightly inexact (linear instead of quadratic convergence near it),
+/// each Hessian is cheaper.
+///
+/// # Errors
+/// As [`newton`]; [`Error::InvalidInput`] if the two do not have the same unknowns.
+pub fn newton_observed_with_hessians<R: Representation>(
+    functional: &Functional<'_, R>,
+    curvature: &Functional<'_, R>,
+    positions: &mut Vec<[f64; 3]>,
+    options: &NewtonOptions,
+    observe: &mut dyn FnMut(&Iteration) -> ControlFlow<()>,
+) -> Result<NewtonReport> {
+    if !functional.same_unknowns(curvature) {
+        return Err(Error::InvalidInput(
+            "Newton: the Hessians' functional has other unknowns than F's".into(),
+        ));
+    }
     let (mut terms, mut g) = {
         let (terms, g) = functional.gradient(positions);
         finite_start(terms, g, positions)?
@@ -479,6 +508,7 @@ pub fn newton_observed<R: Representation>(
     let g0 = norm(&g);
     let mut run = Stepper {
         functional,
+        curvature,
         factorizer: Factorizer::new(functional.free_count()),
         report: NewtonReport::new(terms, g0),
     };
@@ -514,13 +544,14 @@ pub fn newton_observed<R: Representation>(
         // 2. Fresh Hessian: Newton if positive definite and decreasing, else the
         // Levenberg–Marquardt trajectory.
         if step.is_none() {
-            // After a Levenberg–Marquardt step the next one is likely too: the Hessian's
-            // Gauss–Newton part comes from the same pass (about 1.2× the exact Hessian
-            // alone, see `HessianKind::Both`).
+            // After a Levenberg–Marquardt step the next one is likely too, and so is the
+            // first step from a raw mesh: the Hessian's Gauss–Newton part comes from the
+            // same pass (about 1.2× the exact Hessian alone, see `HessianKind::Both`).
             let kind = if options.lm_matrix == LmMatrix::GaussNewton
-                && run.report.iterations.last().map(|it| it.step)
-                    == Some(StepKind::LevenbergMarquardt)
-            {
+                && matches!(
+                    run.report.iterations.last().map(|it| it.step),
+                    None | Some(StepKind::LevenbergMarquardt)
+                ) {
                 HessianKind::Both
             } else {
                 HessianKind::Exact

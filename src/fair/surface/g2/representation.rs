@@ -18,6 +18,7 @@ use crate::fair::surface::representation::{
     DERIVATIVES, DERIVATIVE_ORDERS,
 };
 use crate::mesh::PolygonMesh;
+use rayon::prelude::*;
 
 /// The G² surface's quadrature rows.
 pub struct G2Representation {
@@ -108,28 +109,33 @@ impl G2Representation {
         check_weights(options)?;
         let rule = gauss_legendre(options.nodes)?;
         let surface = G2Surface::new(mesh, boundary, special, options.memory)?;
-        let mut points = Vec::new();
-        let mut element_count = 0;
-        for patch in surface.faces.iter().flatten() {
-            element_count += 1;
-            match patch {
-                FacePatch::Bicubic(rows) => {
-                    push_bicubic_points(&mut points, rows, &rule, 1.0, true, options.c_ordinary);
+        // Each element's points on its own (in parallel), concatenated in face order.
+        let per_element = surface
+            .faces
+            .par_iter()
+            .filter_map(Option::as_ref)
+            .map(|patch| {
+                let mut points = Vec::new();
+                match patch {
+                    FacePatch::Bicubic(rows) => {
+                        push_bicubic_points(&mut points, rows, &rule, 1.0, true, options.c_ordinary)
+                    }
+                    FacePatch::Special { element, sector } => push_special_points(
+                        &mut points,
+                        &surface.bases[*element],
+                        &surface.special_elements[*element],
+                        *sector,
+                        &rule,
+                        options.c_special,
+                    )?,
                 }
-                FacePatch::Special { element, sector } => push_special_points(
-                    &mut points,
-                    &surface.bases[*element],
-                    &surface.special_elements[*element],
-                    *sector,
-                    &rule,
-                    options.c_special,
-                )?,
-            }
-        }
+                Ok(points)
+            })
+            .collect::<Result<Vec<_>>>()?;
         Ok(G2Representation {
             vertex_count: mesh.vertex_count(),
-            element_count,
-            points,
+            element_count: per_element.len(),
+            points: per_element.into_iter().flatten().collect(),
             surface,
         })
     }
