@@ -552,7 +552,8 @@ pub struct TubesArgs {
     #[arg(long, default_value_t = 3)]
     pub n: u32,
     /// Quads along each side of a disc sector; tube ends have 4 m boundary vertices
-    /// (4: the author's 359-vertex mesh; 8 with 2 rings: 1007 vertices, with --n 5: 1677).
+    /// (4: the topology of the author's 359-vertex mesh, not its coordinates; 8 with 2
+    /// rings: 1007 vertices, with --n 5: 1677).
     #[arg(long, default_value_t = 4)]
     pub size: u32,
     /// Rings of quads per tube.

@@ -18,7 +18,7 @@ use std::collections::HashMap;
 use std::ops::Range;
 
 use faer::linalg::matmul::matmul;
-use faer::{Accum, Mat, MatRef, Par};
+use faer::{Accum, Mat, Par};
 use rayon::prelude::*;
 
 use crate::fair::functional::q_density::{q_density, q_density_gradient, q_residual};
@@ -713,30 +713,36 @@ impl<'a, R: Representation> Functional<'a, R> {
                         acc.maps[(top + d, l)] = cd;
                     }
                 }
-                // H_p (C_p ⊗ I₃): block (a, b) of H_p (derivatives × derivatives) times C_p.
+                // H_p (C_p ⊗ I₃): block (a, b) of H_p (derivatives × derivatives) times C_p,
+                // column by column (9 × 9 blocks are too small for a gemm call to pay).
+                // `by_coordinate[9b + e][9a + d]` = H_p[(d, a), (e, b)] (H_p is symmetric).
                 for (i, row) in acc.h.iter().enumerate() {
                     for (j, &x) in row.iter().enumerate() {
-                        acc.by_coordinate[DERIVATIVES * (i % 3) + i / 3]
-                            [DERIVATIVES * (j % 3) + j / 3] = x;
+                        acc.by_coordinate[DERIVATIVES * (j % 3) + j / 3]
+                            [DERIVATIVES * (i % 3) + i / 3] = x;
                     }
                 }
-                let h = MatRef::from_row_major_slice(acc.by_coordinate.as_flattened(), VARS, VARS);
-                let c = acc.maps.as_ref().subrows(top, DERIVATIVES);
-                for a in 0..3 {
+                for (l, c) in p.coefficients.iter().enumerate() {
                     for b in 0..3 {
-                        matmul(
-                            acc.weighted.as_mut().submatrix_mut(
-                                a * stacked + top,
-                                b * m,
-                                DERIVATIVES,
-                                m,
-                            ),
-                            Accum::Replace,
-                            h.submatrix(DERIVATIVES * a, DERIVATIVES * b, DERIVATIVES, DERIVATIVES),
-                            c,
-                            1.0,
-                            Par::Seq,
-                        );
+                        let column = acc
+                            .weighted
+                            .as_mut()
+                            .col_mut(b * m + l)
+                            .try_as_col_major_mut()
+                            .expect("a Mat's columns are contiguous")
+                            .as_slice_mut();
+                        for a in 0..3 {
+                            let mut w = [0.0; DERIVATIVES];
+                            for (e, &ce) in c.iter().enumerate() {
+                                let h = &acc.by_coordinate[DERIVATIVES * b + e]
+                                    [DERIVATIVES * a..DERIVATIVES * (a + 1)];
+                                for d in 0..DERIVATIVES {
+                                    w[d] += h[d] * ce;
+                                }
+                            }
+                            column[a * stacked + top..a * stacked + top + DERIVATIVES]
+                                .copy_from_slice(&w);
+                        }
                     }
                 }
             }

@@ -287,12 +287,14 @@ impl<R: Representation> Stepper<'_, '_, R> {
         (trial, None)
     }
 
+    /// Whether the Hessians come from F's own quadrature (with F and its gradient).
+    fn hessians_have_f(&self) -> bool {
+        std::ptr::eq(self.curvature, self.functional)
+    }
+
     fn hessians(&mut self, positions: &[[f64; 3]], kind: HessianKind) -> Hessians {
         let clock = Instant::now();
-        let mut out = self.curvature.hessians(positions, kind);
-        if !std::ptr::eq(self.curvature, self.functional) {
-            (out.terms, out.gradient) = self.functional.gradient(positions);
-        }
+        let out = self.curvature.hessians(positions, kind);
         if out.exact.is_some() {
             self.report.hessian_evaluations += 1;
         }
@@ -557,8 +559,12 @@ pub fn newton_observed_with_hessians<R: Representation>(
                 HessianKind::Exact
             };
             let hessians = run.hessians(positions, kind);
-            terms = hessians.terms;
-            g = hessians.gradient;
+            // F and g at `positions` are known; the Hessians' pass has them again, from
+            // the same quadrature unless the Hessians come from fewer nodes.
+            if run.hessians_have_f() {
+                terms = hessians.terms;
+                g = hessians.gradient;
+            }
             let h = hessians.exact.expect("asked for");
             let gauss_newton = hessians.gauss_newton;
             if let Some(factor) = run.factor(&h, 0.0) {
