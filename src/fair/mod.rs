@@ -314,17 +314,15 @@ pub fn optimize_observed(
         ),
         None => {
             let coarse = match options.hessian_nodes {
-                Some(nodes) if nodes < options.representation.nodes => {
-                    Some(SurfaceRepresentation::new(
-                        &prepared,
-                        &topo.boundary,
-                        &special,
-                        &RepresentationOptions {
-                            nodes,
-                            ..options.representation.clone()
-                        },
-                    )?)
-                }
+                Some(nodes) if nodes < options.representation.nodes => Some(rep.with_options(
+                    &prepared,
+                    &topo.boundary,
+                    &special,
+                    &RepresentationOptions {
+                        nodes,
+                        ..options.representation.clone()
+                    },
+                )?),
                 _ => None,
             };
             let curvature = coarse.as_ref().map(|r| Functional::new(r, &fixed, weight));
@@ -354,7 +352,12 @@ pub fn optimize_observed(
         }
     };
     let (final_terms, g) = functional.gradient(&positions);
-    let change = ShapeChange::measured(&functional, &prepared.positions, &positions);
+    let change = ShapeChange::with_s(
+        &functional,
+        &prepared.positions,
+        &positions,
+        [initial_terms.s, final_terms.s],
+    );
     let mut out = prepared.clone();
     out.positions = positions;
     Ok((

@@ -14,11 +14,11 @@
 //! Gauss–Newton part 2 Σ JᵀJ of the Hessian, positive semidefinite everywhere, comes from
 //! the residuals' tangents, alone or with the exact Hessian in the same pass.
 
-use std::collections::HashMap;
 use std::ops::Range;
 
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
+use foldhash::{HashMap, HashMapExt};
 use rayon::prelude::*;
 
 use crate::fair::functional::q_density::{q_density, q_density_gradient, q_residual};
@@ -533,21 +533,34 @@ impl<'a, R: Representation> Functional<'a, R> {
     /// Area-weighted mean and standard deviation of the mean curvature H over the
     /// quadrature points where S is integrated (the surface measure √det G dE of eq. 3).
     pub fn mean_curvature_statistics(&self, positions: &[[f64; 3]]) -> (f64, f64) {
-        let (mut area, mut sum, mut sum2) = (0.0, 0.0, 0.0);
-        for (k, p) in self.rep.points().iter().enumerate() {
-            if p.weight_s == 0.0 {
-                continue;
-            }
-            let d = unpack(&point_derivatives(self.rep, k, positions));
-            let h = mean_curvature(&d);
-            let w = p.weight_s * {
-                let n = cross(&d[0], &d[1]);
-                dot(&n, &n).sqrt()
-            };
-            area += w;
-            sum += w * h;
-            sum2 += w * h * h;
-        }
+        let partial: Vec<[f64; 3]> = self
+            .rep
+            .points()
+            .par_chunks(VALUE_CHUNK)
+            .enumerate()
+            .map(|(c, chunk)| {
+                let mut sums = [0.0; 3];
+                for (i, p) in chunk.iter().enumerate() {
+                    if p.weight_s == 0.0 {
+                        continue;
+                    }
+                    let k = c * VALUE_CHUNK + i;
+                    let d = unpack(&point_derivatives(self.rep, k, positions));
+                    let h = mean_curvature(&d);
+                    let w = p.weight_s * {
+                        let n = cross(&d[0], &d[1]);
+                        dot(&n, &n).sqrt()
+                    };
+                    sums[0] += w;
+                    sums[1] += w * h;
+                    sums[2] += w * h * h;
+                }
+                sums
+            })
+            .collect();
+        let [area, sum, sum2] = partial
+            .iter()
+            .fold([0.0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]]);
         if area == 0.0 {
             return (0.0, 0.0);
         }

@@ -60,11 +60,22 @@ impl ShapeChange {
         before: &[[f64; 3]],
         after: &[[f64; 3]],
     ) -> ShapeChange {
+        let s = [before, after].map(|x| functional.value(x).s);
+        ShapeChange::with_s(functional, before, after, s)
+    }
+
+    /// [`ShapeChange::measured`] where S before and after (`s`) is known already.
+    pub fn with_s<R: Representation>(
+        functional: &Functional<'_, R>,
+        before: &[[f64; 3]],
+        after: &[[f64; 3]],
+        [s_before, s_after]: [f64; 2],
+    ) -> ShapeChange {
         let (mean_h_before, std_h_before) = functional.mean_curvature_statistics(before);
         let (mean_h_after, std_h_after) = functional.mean_curvature_statistics(after);
         ShapeChange {
-            s_before: functional.value(before).s,
-            s_after: functional.value(after).s,
+            s_before,
+            s_after,
             mean_h_before,
             mean_h_after,
             std_h_before,

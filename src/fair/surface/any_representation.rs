@@ -36,6 +36,28 @@ impl SurfaceRepresentation {
     }
 }
 
+impl SurfaceRepresentation {
+    /// The same mesh's surface under other `options` of the same kind (other nodes, say);
+    /// the G² surface is not built again.
+    ///
+    /// # Errors
+    /// As [`SurfaceRepresentation::new`].
+    pub fn with_options(
+        &self,
+        mesh: &PolygonMesh,
+        boundary: &[bool],
+        special: &[bool],
+        options: &RepresentationOptions,
+    ) -> Result<Self> {
+        match self {
+            SurfaceRepresentation::G2(r) if options.surface == SurfaceKind::G2 => Ok(
+                SurfaceRepresentation::G2(Box::new(r.with_options(options)?)),
+            ),
+            _ => Self::new(mesh, boundary, special, options),
+        }
+    }
+}
+
 impl Representation for SurfaceRepresentation {
     fn vertex_count(&self) -> usize {
         match self {

@@ -107,8 +107,26 @@ impl G2Representation {
         options: &RepresentationOptions,
     ) -> Result<Self> {
         check_weights(options)?;
-        let rule = gauss_legendre(options.nodes)?;
         let surface = G2Surface::new(mesh, boundary, special, options.memory)?;
+        Self::on_surface(surface, mesh.vertex_count(), options)
+    }
+
+    /// The same surface's rows under other `options` (other nodes, say), without building
+    /// the surface again.
+    ///
+    /// # Errors
+    /// [`Error::InvalidInput`] for a bad option.
+    pub fn with_options(&self, options: &RepresentationOptions) -> Result<Self> {
+        check_weights(options)?;
+        Self::on_surface(self.surface.clone(), self.vertex_count, options)
+    }
+
+    fn on_surface(
+        surface: G2Surface,
+        vertex_count: usize,
+        options: &RepresentationOptions,
+    ) -> Result<Self> {
+        let rule = gauss_legendre(options.nodes)?;
         // Each element's points on its own (in parallel), concatenated in face order.
         let per_element = surface
             .faces
@@ -133,7 +151,7 @@ impl G2Representation {
             })
             .collect::<Result<Vec<_>>>()?;
         Ok(G2Representation {
-            vertex_count: mesh.vertex_count(),
+            vertex_count,
             element_count: per_element.len(),
             points: per_element.into_iter().flatten().collect(),
             surface,

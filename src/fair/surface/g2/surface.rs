@@ -27,6 +27,7 @@ pub enum FacePatch {
 }
 
 /// The G² surface's patches.
+#[derive(Clone)]
 pub struct G2Surface {
     /// One entry per face; `None` for faces that carry no surface (a corner on the
     /// boundary: as in the paper, only internal quads are elements).
