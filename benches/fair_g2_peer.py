@@ -22,6 +22,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import statistics
 import subprocess
 import tempfile
 import time
@@ -29,6 +30,9 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 CLI = REPO / "target" / "release" / "surfkit"
+# surfkit's times are the median of this many runs (a run of 0.5 s varies by ±20 % on a
+# shared 2-core machine); the peer's runs take 10–600 s and run once.
+RUNS = 3
 
 
 def mesh_path(level: str) -> Path:
@@ -97,11 +101,15 @@ def peer_table(levels: list[str]) -> None:
 
 def peer_row(level: str, warm: Path) -> None:
     mesh = mesh_path(level)
-    with tempfile.TemporaryDirectory() as empty:
-        _, cold = surfkit_fair(mesh, ["--nodes", "8"], None, Path(empty))
-    surfkit_fair(mesh, ["--nodes", "8"], None, warm)
-    report, wall = surfkit_fair(mesh, ["--nodes", "8"], None, warm)
-    _, wall1 = surfkit_fair(mesh, ["--nodes", "8"], 1, warm)
+    args = ["--nodes", "8"]
+    colds = []
+    for _ in range(RUNS):
+        with tempfile.TemporaryDirectory() as empty:
+            colds.append(surfkit_fair(mesh, args, None, Path(empty))[1])
+    report, _ = surfkit_fair(mesh, args, None, warm)
+    wall = statistics.median(surfkit_fair(mesh, args, None, warm)[1] for _ in range(RUNS))
+    wall1 = statistics.median(surfkit_fair(mesh, args, 1, warm)[1] for _ in range(RUNS))
+    cold = statistics.median(colds)
     terms = report["final_terms"]
     iters = len(report["newton"]["iterations"])
     row = (
