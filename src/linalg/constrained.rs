@@ -59,7 +59,7 @@ pub fn minimize_with_equalities(
             "constrained solve: right-hand side of wrong length".into(),
         ));
     }
-    if !finite(k) || !finite(c) || rhs.iter().chain(d).flatten().any(|v| !v.is_finite()) {
+    if rhs.iter().chain(d).flatten().any(|v| !v.is_finite()) {
         return Err(Error::InvalidInput(
             "constrained solve: non-finite entry".into(),
         ));
@@ -139,6 +139,11 @@ struct NullSpace {
 
 fn null_space(k: &Mat<f64>, c: &Mat<f64>) -> Result<NullSpace> {
     let (n, p) = (k.nrows(), c.nrows());
+    if !finite(k) || !finite(c) {
+        return Err(Error::InvalidInput(
+            "constrained solve: non-finite entry".into(),
+        ));
+    }
     // SVD of C: C = U S Vᵀ. Row space = V[:, ..rank], null space = V[:, rank..].
     let (rank, u, s, v) = if p == 0 {
         (
@@ -213,26 +218,20 @@ pub fn minimizers_with_equalities(
             d.ncols()
         )));
     }
-    if !finite(k) || !finite(c) || !finite(d) {
+    if !finite(d) {
         return Err(Error::InvalidInput(
             "constrained solve: non-finite entry".into(),
         ));
     }
-    let NullSpace {
-        rank,
-        u,
-        s,
-        v,
-        z,
-        llt,
-    } = null_space(k, c)?;
-    let mut scaled = u.subcols(0, rank).transpose() * d;
-    for (q, sq) in s.iter().take(rank).enumerate() {
+    let space = null_space(k, c)?;
+    let rank = space.rank;
+    let mut scaled = space.u.subcols(0, rank).transpose() * d;
+    for (q, sq) in space.s.iter().take(rank).enumerate() {
         for j in 0..scaled.ncols() {
             scaled[(q, j)] /= sq;
         }
     }
-    let particular = v.subcols(0, rank) * &scaled;
+    let particular = space.v.subcols(0, rank) * &scaled;
     let residual = c * &particular - d;
     for j in 0..d.ncols() {
         let dnorm = (0..p).fold(0.0f64, |m, i| m.max(d[(i, j)].abs()));
@@ -246,10 +245,10 @@ pub fn minimizers_with_equalities(
             });
         }
     }
-    let beta = match &llt {
+    let beta = match &space.llt {
         Some(llt) => {
-            let gamma = llt.solve(z.transpose() * (k * &particular));
-            &particular - &z * gamma
+            let gamma = llt.solve(space.z.transpose() * (k * &particular));
+            &particular - &space.z * gamma
         }
         None => particular,
     };
