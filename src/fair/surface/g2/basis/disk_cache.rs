@@ -146,10 +146,17 @@ impl Reader<'_> {
 }
 
 /// Valence k's basis from `dir`, if a whole file of this build's construction is there.
-/// Every array must have the length valence k implies, so a damaged file cannot ask for
-/// any allocation.
+/// The file must have the size valence k implies before it is read, and every array the
+/// length, so a damaged or foreign file cannot ask for any allocation.
 pub fn load(dir: &Path, k: usize) -> Option<PatchMatrix> {
-    let bytes = std::fs::read(file(dir, k)).ok()?;
+    let path = file(dir, k);
+    // Header (magic, fingerprint, k, inner dimension), each array with its length, checksum.
+    let expected =
+        MAGIC.len() + 3 * 8 + array_lengths(k).iter().map(|n| 8 + 8 * n).sum::<usize>() + 8;
+    if std::fs::metadata(&path).ok()?.len() != expected as u64 {
+        return None;
+    }
+    let bytes = std::fs::read(&path).ok()?;
     let (body, sum) = bytes.split_last_chunk::<8>()?;
     if fnv1a(body.iter().copied(), FNV_OFFSET) != u64::from_le_bytes(*sum) {
         return None;
