@@ -317,7 +317,10 @@ fn fair_optimize_hessians_at_fewer_nodes_reach_the_same_minimum() {
     // The author's three-tube mesh on the G² surface with F at 8 × 8 nodes: Newton with
     // Hessians at 8 × 8, at the default 4 × 4 and at 2 × 2 nodes (F and its gradient at
     // 8 × 8 throughout) converges to the same minimum; only the steps differ.
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/meshes/kiciak_trojnik3.obj");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/fixtures/meshes/kiciak_trojnik3.obj"
+    );
     let mesh = surfkit::mesh::io::read(std::path::Path::new(path)).unwrap();
     let run = |hessian_nodes| {
         let options = FairOptions {
