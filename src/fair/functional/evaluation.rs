@@ -504,25 +504,10 @@ impl<'a, R: Representation> Functional<'a, R> {
 
     /// S, Q and F at `positions` (eq. 2–5).
     pub fn value(&self, positions: &[[f64; 3]]) -> Terms {
-        let partial: Vec<(f64, f64)> = self
-            .rep
-            .points()
-            .par_chunks(VALUE_CHUNK)
-            .enumerate()
-            .map(|(c, chunk)| {
-                let mut sums = (0.0, 0.0);
-                for (i, p) in chunk.iter().enumerate() {
-                    let k = c * VALUE_CHUNK + i;
-                    let (s, q) = densities(&unpack(&point_derivatives(self.rep, k, positions)));
-                    sums.0 += p.weight_s * s;
-                    sums.1 += p.weight_q * q;
-                }
-                sums
-            })
-            .collect();
-        let (s, q) = partial
-            .iter()
-            .fold((0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+        let [s, q] = self.point_sums(|k, p| {
+            let (s, q) = densities(&unpack(&point_derivatives(self.rep, k, positions)));
+            [p.weight_s * s, p.weight_q * q]
+        });
         Terms {
             s,
             q,
@@ -530,37 +515,51 @@ impl<'a, R: Representation> Functional<'a, R> {
         }
     }
 
-    /// Area-weighted mean and standard deviation of the mean curvature H over the
-    /// quadrature points where S is integrated (the surface measure √det G dE of eq. 3).
-    pub fn mean_curvature_statistics(&self, positions: &[[f64; 3]]) -> (f64, f64) {
-        let partial: Vec<[f64; 3]> = self
+    /// Σ over the quadrature points of `term(k, point k)`, in fixed chunks on all cores
+    /// (added in the same order whatever the number of cores).
+    fn point_sums<const N: usize>(
+        &self,
+        term: impl Fn(usize, &QuadraturePoint) -> [f64; N] + Sync,
+    ) -> [f64; N] {
+        let partial: Vec<[f64; N]> = self
             .rep
             .points()
             .par_chunks(VALUE_CHUNK)
             .enumerate()
             .map(|(c, chunk)| {
-                let mut sums = [0.0; 3];
+                let mut sums = [0.0; N];
                 for (i, p) in chunk.iter().enumerate() {
-                    if p.weight_s == 0.0 {
-                        continue;
+                    let t = term(c * VALUE_CHUNK + i, p);
+                    for (sum, x) in sums.iter_mut().zip(t) {
+                        *sum += x;
                     }
-                    let k = c * VALUE_CHUNK + i;
-                    let d = unpack(&point_derivatives(self.rep, k, positions));
-                    let h = mean_curvature(&d);
-                    let w = p.weight_s * {
-                        let n = cross(&d[0], &d[1]);
-                        dot(&n, &n).sqrt()
-                    };
-                    sums[0] += w;
-                    sums[1] += w * h;
-                    sums[2] += w * h * h;
                 }
                 sums
             })
             .collect();
-        let [area, sum, sum2] = partial
-            .iter()
-            .fold([0.0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]]);
+        partial.iter().fold([0.0; N], |mut total, sums| {
+            for (t, x) in total.iter_mut().zip(sums) {
+                *t += x;
+            }
+            total
+        })
+    }
+
+    /// Area-weighted mean and standard deviation of the mean curvature H over the
+    /// quadrature points where S is integrated (the surface measure √det G dE of eq. 3).
+    pub fn mean_curvature_statistics(&self, positions: &[[f64; 3]]) -> (f64, f64) {
+        let [area, sum, sum2] = self.point_sums(|k, p| {
+            if p.weight_s == 0.0 {
+                return [0.0; 3];
+            }
+            let d = unpack(&point_derivatives(self.rep, k, positions));
+            let h = mean_curvature(&d);
+            let w = p.weight_s * {
+                let n = cross(&d[0], &d[1]);
+                dot(&n, &n).sqrt()
+            };
+            [w, w * h, w * h * h]
+        });
         if area == 0.0 {
             return (0.0, 0.0);
         }
@@ -673,8 +672,8 @@ impl<'a, R: Representation> Functional<'a, R> {
     }
 
     /// Adds the patch's points' terms and gradients to `acc` and stacks, per `kind`, the
-    /// coefficient matrices C_p (`acc.maps`) with H_p J_p (`acc.weighted`, faer's SIMD
-    /// products per point) for the exact Hessian, and the Gauss–Newton rows mapped to vertex coordinates,
+    /// coefficient matrices C_p (`acc.maps`) with H_p J_p (`acc.weighted`) for the exact
+    /// Hessian, and the Gauss–Newton rows mapped to vertex coordinates,
     /// R_p J_p (`acc.rows`, 8 rows per point instead of the exact Hessian's 27).
     fn patch_points(
         &self,
