@@ -1,23 +1,28 @@
-"""Where plain Newton's ceiling is (issue 18, first part): `surfkit fair` from the raw
-refined tube junctions, one process per size, with its wall time, peak RSS (from wait4),
-Hessian and factorization time and count, and the gradient reduction reached.
+"""Plain Newton against the multilevel method on large tube junctions (issue 18): `surfkit
+fair` from the raw refined junction, one process per size and method, with its wall time,
+peak RSS (from wait4), Hessians, conjugate-gradient iterations and the gradient reduction
+reached, the two methods side by side, then the issue's goals.
 
-    .venv/bin/python benches/fair_ceiling.py [SIZE ...]
+    .venv/bin/python benches/fair_ceiling.py [SIZE ...] [--surface g2|catmull-clark]
+        [--methods plain,multilevel] [--timeout SECONDS]
 
 SIZE is t3r2 (14 399 vertices), t5r2 (23 997), t3r3 (56 447), t5r3 (94 077) or t3r4
-(225 023); default t3r2 t5r2 t3r3 t5r3. No peer runs in the same process: BSTools's
+(225 023); default all five. A run longer than --timeout (default 2700 s, the issue's 45
+minutes) is stopped and shown as "> T". No peer runs in the same process: BSTools's
 multilevel method is documented at 72 009 free vertices in about 6 h 20 min (not measured
 here).
 """
 
 from __future__ import annotations
 
+import argparse
 import json
+import math
 import os
 import subprocess
-import sys
 import tempfile
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
@@ -31,52 +36,102 @@ SIZES = {
 }
 
 
-def run_measured(args: list[str]) -> tuple[str, float, float]:
-    """stdout, wall seconds and peak RSS (GB) of one child process."""
-    start = time.monotonic()
-    with subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL) as child:
-        out = child.stdout.read() if child.stdout else b""
-        _, status, usage = os.wait4(child.pid, 0)
+@dataclass
+class Run:
+    wall: float
+    peak_gb: float
+    report: dict | None  # None when stopped at the timeout
+
+    @property
+    def converged(self) -> bool:
+        return self.report is not None and self.report["newton"]["converged"]
+
+    def cells(self) -> str:
+        if self.report is None:
+            return f"> {self.wall:7.0f}  {self.peak_gb:5.2f}    (stopped)"
+        newton = self.report["newton"]
+        ratio = self.report["final_gradient_norm"] / newton["initial_gradient_norm"]
+        return (
+            f"{self.wall:9.1f}  {self.peak_gb:5.2f}  {newton['hessian_evaluations']:3}"
+            f"  {newton['cg_iterations']:5}  {ratio:.1e}"
+        )
+
+
+def run_measured(args: list[str], timeout: float) -> Run:
+    """One child process: wall seconds, peak RSS and its JSON report (None if stopped)."""
+    with tempfile.TemporaryFile() as out:
+        start = time.monotonic()
+        child = subprocess.Popen(args, stdout=out, stderr=subprocess.DEVNULL)
+        while True:
+            pid, status, usage = os.wait4(child.pid, os.WNOHANG)
+            if pid:
+                break
+            if time.monotonic() - start > timeout:
+                child.kill()
+                _, status, usage = os.wait4(child.pid, 0)
+                return Run(time.monotonic() - start, usage.ru_maxrss / 1e6, None)
+            time.sleep(0.5)
+        wall = time.monotonic() - start
         child.returncode = os.waitstatus_to_exitcode(status)
-    return out.decode(), time.monotonic() - start, usage.ru_maxrss / 1e6
+        out.seek(0)
+        report = json.loads(out.read())["report"]
+        return Run(wall, usage.ru_maxrss / 1e6, report)
 
 
 def main() -> None:
-    names = sys.argv[1:] or ["t3r2", "t5r2", "t3r3", "t5r3"]
-    print(f"fair_ceiling {time.strftime('%Y-%m-%d')} (plain Newton, raw start, all cores)")
-    print("size    vertices  free     wall s  peak GB  Hessians (s)  factorizations (s)  |g|/|g0|")
-    for name in names:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("sizes", nargs="*", default=list(SIZES))
+    parser.add_argument("--surface", default="g2", choices=["g2", "catmull-clark"])
+    parser.add_argument("--methods", default="plain,multilevel")
+    parser.add_argument("--timeout", type=float, default=2700.0)
+    args = parser.parse_args()
+    methods = args.methods.split(",")
+    print(
+        f"fair_ceiling {time.strftime('%Y-%m-%d')}: {args.surface} surface, raw refined "
+        f"junctions, {os.cpu_count()} cores, tolerance 1e-8, timeout {args.timeout:.0f} s"
+    )
+    header = "    wall s  peak GB  H    CG  |g|/|g0|"
+    print("size   vertices   free  " + "  ".join(f"{m:>10}:{header}" for m in methods))
+    results: dict[str, dict[str, Run]] = {}
+    vertices: dict[str, int] = {}
+    for name in args.sizes:
         with tempfile.TemporaryDirectory() as tmp:
             mesh = Path(tmp) / f"{name}.obj"
             subprocess.run(
-                [
-                    str(CLI),
-                    "gen",
-                    "tubes",
-                    "--size",
-                    "8",
-                    "--rings",
-                    "2",
-                    *SIZES[name],
-                    "-o",
-                    str(mesh),
-                ],
+                [str(CLI), "gen", "tubes", "--size", "8", "--rings", "2", *SIZES[name]]
+                + ["-o", str(mesh)],
                 check=True,
                 capture_output=True,
             )
-            out, wall, peak = run_measured(
-                [str(CLI), "fair", str(mesh), "-o", str(Path(tmp) / "out.obj"), "--json"]
-            )
-            report = json.loads(out)["report"]
-            newton = report["newton"]
-            ratio = report["final_gradient_norm"] / newton["initial_gradient_norm"]
+            row = {}
+            for method in methods:
+                row[method] = run_measured(
+                    [str(CLI), "fair", str(mesh), "-o", str(Path(tmp) / "out.obj"), "--json"]
+                    + ["--method", method, "--surface", args.surface],
+                    args.timeout,
+                )
+            results[name] = row
+            known = next((r.report for r in row.values() if r.report is not None), None)
+            vertices[name] = known["vertices"] if known else 0
+            free = known["free_vertices"] if known else 0
             print(
-                f"{name:6} {report['vertices']:9} {report['free_vertices']:6} {wall:9.1f} "
-                f"{peak:8.2f}  {newton['hessian_evaluations']:3} ({newton['hessian_seconds']:6.1f})"
-                f"  {newton['factorizations']:3} ({newton['factorization_seconds']:6.1f})"
-                f"       {ratio:.1e}",
+                f"{name:6} {vertices[name]:8} {free:6}  "
+                + "  ".join(f"{'':>10} {row[m].cells()}" for m in methods),
                 flush=True,
             )
+    if set(methods) >= {"plain", "multilevel"}:
+        print("speed-up of the multilevel method (plain wall / multilevel wall):")
+        for name, row in results.items():
+            plain, multilevel = row["plain"], row["multilevel"]
+            bound = ">" if plain.report is None else ""
+            print(f"  {name}: {bound}{plain.wall / multilevel.wall:.2f}x")
+    if "multilevel" in methods:
+        converged = [(vertices[n], r["multilevel"].wall) for n, r in results.items()]
+        converged = [c for c, n in zip(converged, results) if results[n]["multilevel"].converged]
+        if len(converged) >= 2:
+            (n0, t0), (n1, t1) = converged[0], converged[-1]
+            exponent = math.log(t1 / t0) / math.log(n1 / n0)
+            print(f"multilevel time grows as n^{exponent:.2f} from {n0} to {n1} vertices")
 
 
 if __name__ == "__main__":

@@ -14,10 +14,10 @@ use crate::error::Error;
 use super::html_pages::{fair_log_plot, fair_summary};
 use crate::fair::{
     optimize_levels_observed, read_fixed, refine_surface, shape_change, surface_samples, tubes,
-    write_bezier_patches, BlockOptions, EndCaps, FairOptions, FairReport, G2Surface, Iteration,
-    LevelReport, LmMatrix, MeshTopology, NewtonOptions, QDomain, RepresentationOptions,
-    ShapeChange, SurfaceKind, DEFAULT_C_SPECIAL, DEFAULT_C_SPECIAL_G2, DEFAULT_HESSIAN_NODES,
-    DEFAULT_REGULARIZATION,
+    write_bezier_patches, BlockOptions, EndCaps, FairMethod, FairOptions, FairReport, G2Surface,
+    Iteration, LevelReport, LmMatrix, MeshTopology, NewtonOptions, QDomain, RepresentationOptions,
+    ShapeChange, StepKind, SurfaceKind, DEFAULT_C_SPECIAL, DEFAULT_C_SPECIAL_G2,
+    DEFAULT_HESSIAN_NODES, DEFAULT_REGULARIZATION,
 };
 use crate::limits::MemoryBudget;
 use crate::mesh::io::{read, write, WriteOptions};
@@ -39,6 +39,17 @@ impl SurfaceArg {
             SurfaceArg::CatmullClark => SurfaceKind::CatmullClark,
         }
     }
+}
+
+/// `--method`.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MethodArg {
+    /// Multilevel from 30 000 free vertices when the mesh is a refinement, else plain.
+    Auto,
+    /// A sparse Cholesky factor of every Hessian (paper §5).
+    Plain,
+    /// Inexact Newton, CG with a multigrid V-cycle over the coarser control meshes.
+    Multilevel,
 }
 
 #[derive(clap::Args, Debug)]
@@ -114,6 +125,11 @@ pub struct FairArgs {
     /// `surfkit-bezier-patches`: one patch of degree 3 or 9 per internal face; README).
     #[arg(long)]
     pub bezier: Option<PathBuf>,
+    /// How Newton's steps are solved: `plain` (a sparse Cholesky factor of every Hessian),
+    /// `multilevel` (conjugate gradients with a multigrid V-cycle over the coarser control
+    /// meshes the input was refined from), `auto` (multilevel for large refined meshes).
+    #[arg(long, value_enum, default_value_t = MethodArg::Auto)]
+    pub method: MethodArg,
     /// Use the block method of the paper's §5 with this many blocks (for large meshes:
     /// block Newton iterations, then global Newton steps by Schwarz-preconditioned CG).
     #[arg(long)]
@@ -256,9 +272,15 @@ impl Progress {
     pub fn new(show: bool, tolerance: f64) -> Self {
         let bar = if show && std::io::stderr().is_terminal() {
             let bar = ProgressBar::new(Self::STEPS);
-            if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {msg}") {
+            // The position is the share of log(|g|/|g0|) done towards the tolerance, so
+            // indicatif's estimate of the time left follows the gradient's decay.
+            if let Ok(style) =
+                ProgressStyle::with_template("{elapsed_precise} [{bar:30}] ETA {eta} {msg}")
+            {
                 bar.set_style(style.progress_chars("=> "));
             }
+            // A Hessian of a large mesh takes tens of seconds: keep the clock moving.
+            bar.enable_steady_tick(std::time::Duration::from_millis(500));
             bar.set_message(format!("optimizing (|g|/|g0| → {tolerance:.0e})"));
             bar
         } else {
@@ -281,8 +303,15 @@ impl Progress {
             1.0
         };
         self.bar.set_position((done * Self::STEPS as f64) as u64);
+        let step = match it.step {
+            StepKind::Newton => "Newton step",
+            StepKind::ReusedNewton => "Newton step (kept matrix)",
+            StepKind::DampedNewton => "damped Newton step",
+            StepKind::LevenbergMarquardt => "Levenberg–Marquardt step",
+            StepKind::SteepestDescent => "descent step",
+        };
         self.bar.set_message(format!(
-            "level {level}, iteration {}: F {:.6e}, |g|/|g0| {ratio:.2e} → {:.0e}",
+            "level {level}, iteration {} ({step}): F {:.6e}, |g|/|g0| {ratio:.2e} → {:.0e}",
             self.iterations, it.terms.f, self.tolerance
         ));
     }
@@ -319,6 +348,11 @@ fn options(args: &FairArgs, memory: MemoryBudget) -> FairOptions {
         max_refinements: args.max_refinements,
         regularization: args.regularization,
         hessian_nodes: Some(args.hessian_nodes),
+        method: match args.method {
+            MethodArg::Auto => FairMethod::Automatic,
+            MethodArg::Plain => FairMethod::Plain,
+            MethodArg::Multilevel => FairMethod::Multilevel,
+        },
         ..FairOptions::default()
     };
     options.newton.relative_gradient = args.tolerance;
@@ -496,6 +530,18 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
             n.hessian_evaluations,
             n.status_note()
         );
+        if report.method == FairMethod::Multilevel {
+            println!(
+                "  multilevel method: levels of {:?} unknown vertices, {} CG iterations \
+                 ({:.1} s), {} V-cycle set-ups ({:.1} s), Hessians {:.1} s",
+                report.multilevel_sizes,
+                n.cg_iterations,
+                n.cg_seconds,
+                n.factorizations,
+                n.factorization_seconds,
+                n.hessian_seconds
+            );
+        }
         if let Some(b) = &report.blocks {
             println!(
                 "  block method: {} blocks of {}–{} vertices (coverage {:.2}), {} sweeps, {} \

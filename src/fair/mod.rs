@@ -45,7 +45,7 @@ pub use solvers::newton::{
     newton, newton_observed, newton_observed_with_hessians, Iteration, LmMatrix, NewtonOptions,
     NewtonReport, StepKind,
 };
-pub use solvers::pcg::{multiply, pcg, CgOutcome, CgStop};
+pub use solvers::pcg::{multiply, pcg, pcg_operator, CgOutcome, CgStop};
 pub use solvers::schwarz::Schwarz;
 pub use surface::any_representation::SurfaceRepresentation;
 pub use surface::curvature_map::{curvature_samples, surface_samples};
@@ -76,8 +76,12 @@ pub use surface::sub_representation::SubRepresentation;
 use std::ops::ControlFlow;
 
 use crate::error::{Error, Result};
+use crate::limits::{human_bytes, MemoryBudget};
 use crate::linalg::norm;
 use crate::mesh::PolygonMesh;
+use solvers::multilevel::hierarchy::{hierarchy, Hierarchy, COARSEST_VERTICES};
+use solvers::multilevel::solver::MultilevelSolver;
+use solvers::newton::newton_with_solver;
 
 /// The default C of F = S + C·c·Q, the author's. Measured on his three meshes
 /// (kiciak_trojnik3/4/5, 359/1295/4895 vertices, 2026-11-26, README): with the paper's
@@ -122,7 +126,37 @@ pub struct FairOptions {
     /// inexact. The author's program does the same (Hessians at 6 × 6, F at 8 × 8).
     /// Default [`DEFAULT_HESSIAN_NODES`]; `None`: the Hessians use F's nodes.
     pub hessian_nodes: Option<usize>,
+    /// How Newton's steps are solved (plain or multilevel; by size when automatic).
+    pub method: FairMethod,
 }
+
+/// How [`optimize`] solves Newton's steps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FairMethod {
+    /// Multilevel when there are at least [`MULTILEVEL_FREE_VERTICES`] free vertices and
+    /// the mesh is the refinement of a coarser one; plain otherwise.
+    #[default]
+    Automatic,
+    /// A sparse Cholesky factor of every Hessian + νI (paper §5).
+    Plain,
+    /// Inexact Newton: conjugate gradients preconditioned by a multigrid V-cycle over the
+    /// coarser control meshes (issue 18); needs a mesh that un-subdivides.
+    Multilevel,
+}
+
+/// The size from which [`FairMethod::Automatic`] takes the multilevel method.
+pub const MULTILEVEL_FREE_VERTICES: usize = 30_000;
+
+/// Peak resident memory per free vertex of the plain method, the representation included:
+/// the largest measured by `benches/fair_ceiling.py` (README); its Cholesky factor's fill
+/// grows a little faster than the mesh. Checked against the memory budget before the
+/// solver's matrices are allocated, so a problem too large gets an error, not the OOM
+/// killer.
+pub const PLAIN_BYTES_PER_FREE_VERTEX: u64 = 80 << 10;
+/// The same for the multilevel method (no fine factor: Hessian, Gauss–Newton part, the
+/// level matrices).
+pub const MULTILEVEL_BYTES_PER_FREE_VERTEX: u64 = 60 << 10;
 
 impl Default for FairOptions {
     fn default() -> Self {
@@ -137,6 +171,7 @@ impl Default for FairOptions {
             blocks: None,
             regularization: DEFAULT_REGULARIZATION,
             hessian_nodes: Some(DEFAULT_HESSIAN_NODES),
+            method: FairMethod::Automatic,
         }
     }
 }
@@ -169,6 +204,11 @@ pub struct FairReport {
     pub newton: NewtonReport,
     /// What the block method did, when it was chosen.
     pub blocks: Option<BlockReport>,
+    /// The method that solved Newton's steps: `plain` or `multilevel` (`plain` also for
+    /// the block method's global phase).
+    pub method: FairMethod,
+    /// The multilevel method's unknown vertices per level, finest first (empty for plain).
+    pub multilevel_sizes: Vec<usize>,
     pub final_terms: Terms,
     pub final_gradient_norm: f64,
     /// S and the spread of H at the prepared input and at the optimum, on the optimizer's
@@ -303,6 +343,7 @@ pub fn optimize_observed(
         }
         None => (initial_terms, norm(&initial_gradient)),
     };
+    let mut multilevel_sizes = Vec::new();
     let (report, blocks) = match &options.blocks {
         _ if warm_start.as_ref().is_some_and(|w| w.cancelled) => (
             NewtonReport {
@@ -326,16 +367,34 @@ pub fn optimize_observed(
                 _ => None,
             };
             let curvature = coarse.as_ref().map(|r| Functional::new(r, &fixed, weight));
-            (
-                newton_observed_with_hessians(
+            let curvature = curvature.as_ref().unwrap_or(&functional);
+            let levels = multilevel_hierarchy(&prepared, &functional, options.method)?;
+            check_solver_memory(
+                functional.free_count(),
+                levels.is_some(),
+                options.representation.memory,
+            )?;
+            let report = match levels {
+                Some(levels) => {
+                    multilevel_sizes = levels.sizes();
+                    newton_with_solver(
+                        &functional,
+                        curvature,
+                        &mut positions,
+                        &options.newton,
+                        MultilevelSolver::new(levels),
+                        &mut |it| observe(it, g0),
+                    )?
+                }
+                None => newton_observed_with_hessians(
                     &functional,
-                    curvature.as_ref().unwrap_or(&functional),
+                    curvature,
                     &mut positions,
                     &options.newton,
                     &mut |it| observe(it, g0),
                 )?,
-                None,
-            )
+            };
+            (report, None)
         }
         Some(block_options) => {
             let (report, blocks) = block_newton(
@@ -374,9 +433,76 @@ pub fn optimize_observed(
             warm_start,
             newton: report,
             blocks,
+            method: if multilevel_sizes.is_empty() {
+                FairMethod::Plain
+            } else {
+                FairMethod::Multilevel
+            },
+            multilevel_sizes,
             final_terms,
             final_gradient_norm: norm(&g),
             change,
         },
     ))
+}
+
+/// The multilevel method's levels if `method` asks for it (or, automatically, when the
+/// problem is large enough), `None` for the plain method.
+///
+/// # Errors
+/// [`Error::InvalidInput`] when the multilevel method is asked for and the mesh is not the
+/// Catmull–Clark refinement of a coarser mesh, or too small to have a coarser level.
+fn multilevel_hierarchy<R: Representation>(
+    mesh: &PolygonMesh,
+    functional: &Functional<'_, R>,
+    method: FairMethod,
+) -> Result<Option<Hierarchy>> {
+    let free = functional.free_count();
+    if method == FairMethod::Plain
+        || (method == FairMethod::Automatic && free < MULTILEVEL_FREE_VERTICES)
+    {
+        return Ok(None);
+    }
+    let levels = hierarchy(mesh, functional.free_index(), free);
+    match (levels.prolongations.is_empty(), method) {
+        (false, _) => Ok(Some(levels)),
+        (true, FairMethod::Multilevel) => Err(Error::InvalidInput(format!(
+            "the multilevel method needs a coarser level: the mesh ({} vertices, {free} free) \
+             is not the Catmull–Clark refinement of a coarser mesh, or has at most {} free \
+             vertices; use the plain method",
+            mesh.vertex_count(),
+            COARSEST_VERTICES
+        ))),
+        (true, _) => Ok(None),
+    }
+}
+
+/// Refuses a problem whose solver would pass `budget` ([`PLAIN_BYTES_PER_FREE_VERTEX`],
+/// [`MULTILEVEL_BYTES_PER_FREE_VERTEX`]), naming what would fit.
+fn check_solver_memory(free: usize, multilevel: bool, budget: MemoryBudget) -> Result<()> {
+    let per_vertex = if multilevel {
+        MULTILEVEL_BYTES_PER_FREE_VERTEX
+    } else {
+        PLAIN_BYTES_PER_FREE_VERTEX
+    };
+    let need = (free as u64).saturating_mul(per_vertex);
+    if need <= budget.get() {
+        return Ok(());
+    }
+    let method = if multilevel { "multilevel" } else { "plain" };
+    let fits = budget.get() / per_vertex;
+    let mut advice = format!(
+        "the {method} method takes about {} per free vertex: {} free vertices fit",
+        human_bytes(per_vertex),
+        fits
+    );
+    if !multilevel && (free as u64).saturating_mul(MULTILEVEL_BYTES_PER_FREE_VERTEX) <= budget.get()
+    {
+        advice.push_str("; the multilevel method (--method multilevel, for a refined mesh) fits");
+    }
+    Err(Error::ResourceLimit {
+        what: format!("fairing {free} free vertices (about {})", human_bytes(need)),
+        limit: budget.get(),
+        advice,
+    })
 }

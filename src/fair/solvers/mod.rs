@@ -6,6 +6,8 @@ pub(crate) mod block_method;
 pub(crate) mod blocks;
 pub(crate) mod cholesky;
 pub(crate) mod levels;
+pub(crate) mod multilevel;
 pub(crate) mod newton;
 pub(crate) mod pcg;
 pub(crate) mod schwarz;
+pub(crate) mod step_solver;

@@ -15,7 +15,8 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::fair::functional::evaluation::{BlockHessian, Functional, HessianKind, Hessians, Terms};
-use crate::fair::solvers::cholesky::{Factor, Factorizer};
+use crate::fair::solvers::cholesky::Factorizer;
+use crate::fair::solvers::step_solver::{CholeskySolver, StepSolver};
 use crate::fair::surface::representation::Representation;
 use crate::linalg::{dot, norm};
 use crate::tolerance::ROUND_OFF;
@@ -109,11 +110,17 @@ pub struct NewtonReport {
     /// Evaluations of the Hessian's Gauss–Newton part (alone, or with the exact Hessian
     /// in one pass) for the Levenberg–Marquardt search ([`LmMatrix::GaussNewton`]).
     pub gauss_newton_evaluations: usize,
-    /// Numeric Cholesky factorizations (Newton and Levenberg–Marquardt trials).
+    /// Matrices H + νI readied for solves (Newton and Levenberg–Marquardt trials): numeric
+    /// Cholesky factorizations (plain method), multigrid set-ups with a factorization of
+    /// the coarsest level (multilevel method).
     pub factorizations: usize,
-    /// Wall-clock seconds spent evaluating Hessians, and in factorizations.
+    /// Wall-clock seconds spent evaluating Hessians, and readying matrices.
     pub hessian_seconds: f64,
     pub factorization_seconds: f64,
+    /// Conjugate-gradient iterations of the multilevel method's solves, and their seconds
+    /// (0 for the plain method).
+    pub cg_iterations: usize,
+    pub cg_seconds: f64,
     pub converged: bool,
     /// Stopped at the round-off floor before the gradient tolerance (see
     /// [`NewtonOptions::stall_steps`]); `converged` is false then.
@@ -141,6 +148,8 @@ impl NewtonReport {
             factorizations: 0,
             hessian_seconds: 0.0,
             factorization_seconds: 0.0,
+            cg_iterations: 0,
+            cg_seconds: 0.0,
             converged: initial_gradient_norm == 0.0,
             stalled: false,
             stuck: false,
@@ -248,22 +257,27 @@ struct Trial {
 type NewtonStep = (Trial, Vec<f64>, StepKind);
 
 /// The evaluations one iteration may make, with their counters.
-struct Stepper<'a, 'r, R: Representation> {
+struct Stepper<'a, 'r, R: Representation, S: StepSolver> {
     functional: &'a Functional<'r, R>,
     /// Where the Hessians come from: `functional` itself, or the same F at fewer
     /// quadrature nodes ([`newton_observed_with_hessians`]).
     curvature: &'a Functional<'r, R>,
-    factorizer: Factorizer,
+    solver: S,
     report: NewtonReport,
+    /// Hessian passes so far: the exact Hessian of pass k has key 2k, its Gauss–Newton
+    /// part 2k + 1 ([`StepSolver::ready`]).
+    passes: u64,
+    /// The relative residual an inexact solver is asked for ([`forcing_term`]).
+    forcing: f64,
 }
 
-impl<R: Representation> Stepper<'_, '_, R> {
-    fn factor(&mut self, h: &BlockHessian, nu: f64) -> Option<Factor> {
+impl<R: Representation, S: StepSolver> Stepper<'_, '_, R, S> {
+    fn factor(&mut self, h: &BlockHessian, key: u64, nu: f64) -> Option<S::Ready> {
         let clock = Instant::now();
-        let factored = self.factorizer.factor(h, nu);
+        let factored = self.solver.ready(h, key, nu);
         self.report.factorizations += 1;
         self.report.factorization_seconds += clock.elapsed().as_secs_f64();
-        factored.ok()
+        factored
     }
 
     /// [`Self::newton_trial`] with `factor`, and the factor itself if its step was
@@ -271,19 +285,19 @@ impl<R: Representation> Stepper<'_, '_, R> {
     /// its storage goes back to the factorizer.
     fn newton_kept(
         &mut self,
-        factor: Factor,
+        factor: S::Ready,
         g: &[f64],
         positions: &[[f64; 3]],
         f: f64,
         options: &NewtonOptions,
-    ) -> (Option<NewtonStep>, Option<Factor>) {
+    ) -> (Option<NewtonStep>, Option<S::Ready>) {
         let trial = self.newton_trial(&factor, g, positions, f, options.newton_halvings);
         let effective =
             matches!(&trial, Some((_, gt, _)) if norm(gt) * options.reuse_factor <= norm(g));
         if effective {
             return (trial, Some(factor));
         }
-        self.factorizer.recycle(factor);
+        self.solver.recycle(factor);
         (trial, None)
     }
 
@@ -295,6 +309,7 @@ impl<R: Representation> Stepper<'_, '_, R> {
     fn hessians(&mut self, positions: &[[f64; 3]], kind: HessianKind) -> Hessians {
         let clock = Instant::now();
         let out = self.curvature.hessians(positions, kind);
+        self.passes += 1;
         if out.exact.is_some() {
             self.report.hessian_evaluations += 1;
         }
@@ -309,14 +324,14 @@ impl<R: Representation> Stepper<'_, '_, R> {
     /// the first of its `halvings` halves, quarters, … that does
     /// ([`NewtonOptions::newton_halvings`]).
     fn newton_trial(
-        &self,
-        factor: &Factor,
+        &mut self,
+        factor: &S::Ready,
         g: &[f64],
         positions: &[[f64; 3]],
         f: f64,
         halvings: usize,
     ) -> Option<NewtonStep> {
-        let delta = factor.newton_step(g);
+        let delta = self.solver.solve(factor, g, self.forcing)?;
         let below = |t: f64| t.partial_cmp(&f) == Some(std::cmp::Ordering::Less);
         (0..=halvings).find_map(|k| {
             let length = 0.5f64.powi(k as i32);
@@ -351,15 +366,16 @@ impl<R: Representation> Stepper<'_, '_, R> {
     /// of the decrease to the one the quadratic model of F predicts.
     fn lm_trial(
         &mut self,
-        h: &BlockHessian,
+        (h, key): (&BlockHessian, u64),
         nu: f64,
         g: &[f64],
         positions: &[[f64; 3]],
         f: f64,
     ) -> Option<(Trial, f64)> {
-        let factor = self.factor(h, nu)?;
-        let step = factor.newton_step(g);
-        self.factorizer.recycle(factor);
+        let factor = self.factor(h, key, nu)?;
+        let step = self.solver.solve(&factor, g, self.forcing);
+        self.solver.recycle(factor);
+        let step = step?;
         let trial = moved(positions, self.functional.free_index(), &step, 1.0);
         let t = self.functional.value(&trial);
         if !(t.f.is_finite() && t.f < f) {
@@ -393,7 +409,7 @@ impl<R: Representation> Stepper<'_, '_, R> {
     /// `None` when no ν decreases F.
     fn lm_search(
         &mut self,
-        h: &BlockHessian,
+        h: (&BlockHessian, u64),
         g: &[f64],
         positions: &[[f64; 3]],
         f: f64,
@@ -498,6 +514,41 @@ pub fn newton_observed_with_hessians<R: Representation>(
     options: &NewtonOptions,
     observe: &mut dyn FnMut(&Iteration) -> ControlFlow<()>,
 ) -> Result<NewtonReport> {
+    newton_with_solver(
+        functional,
+        curvature,
+        positions,
+        options,
+        CholeskySolver(Factorizer::new(functional.free_count())),
+        observe,
+    )
+}
+
+/// The relative residual asked of an inexact solve after ‖g‖ went from `previous` to
+/// `current` (Eisenstat and Walker's choice 2, γ = 0.9, α = 2, with their safeguard
+/// against a sudden drop), at most ½, and no smaller than the gradient tolerance
+/// `target` = relative_gradient · ‖g₀‖ needs (no over-solving of the last step).
+pub(crate) fn forcing_term(last: f64, previous: f64, current: f64, target: f64) -> f64 {
+    let mut eta = 0.9 * (current / previous).powi(2);
+    let safeguard = 0.9 * last * last;
+    if safeguard > 0.1 {
+        eta = eta.max(safeguard);
+    }
+    eta.max(0.5 * target / current).min(0.5)
+}
+
+/// [`newton_observed_with_hessians`] with the steps solved by `solver`.
+///
+/// # Errors
+/// As [`newton_observed_with_hessians`].
+pub(crate) fn newton_with_solver<R: Representation, S: StepSolver>(
+    functional: &Functional<'_, R>,
+    curvature: &Functional<'_, R>,
+    positions: &mut Vec<[f64; 3]>,
+    options: &NewtonOptions,
+    solver: S,
+    observe: &mut dyn FnMut(&Iteration) -> ControlFlow<()>,
+) -> Result<NewtonReport> {
     if !functional.same_unknowns(curvature) {
         return Err(Error::InvalidInput(
             "Newton: the Hessians' functional has other unknowns than F's".into(),
@@ -511,15 +562,17 @@ pub fn newton_observed_with_hessians<R: Representation>(
     let mut run = Stepper {
         functional,
         curvature,
-        factorizer: Factorizer::new(functional.free_count()),
+        solver,
         report: NewtonReport::new(terms, g0),
+        passes: 0,
+        forcing: 0.5,
     };
     if functional.free_count() == 0 || g0 == 0.0 {
         run.report.converged = true;
         return Ok(run.report);
     }
     // The factor of the last effective Newton step (§5).
-    let mut reusable: Option<Factor> = None;
+    let mut reusable: Option<S::Ready> = None;
     // Consecutive fresh Newton steps that changed neither F nor ‖g‖ (see `stall_steps`).
     let mut stalled_steps = 0;
     // The ν of the last Levenberg–Marquardt step.
@@ -567,7 +620,8 @@ pub fn newton_observed_with_hessians<R: Representation>(
             }
             let h = hessians.exact.expect("asked for");
             let gauss_newton = hessians.gauss_newton;
-            if let Some(factor) = run.factor(&h, 0.0) {
+            let exact_key = 2 * run.passes;
+            if let Some(factor) = run.factor(&h, exact_key, 0.0) {
                 let trial;
                 (trial, reusable) = run.newton_kept(factor, &g, positions, terms.f, options);
                 if let Some((trial, gt, kind)) = trial {
@@ -575,13 +629,16 @@ pub fn newton_observed_with_hessians<R: Representation>(
                 }
             }
             if step.is_none() {
-                let h = match (options.lm_matrix, gauss_newton) {
-                    (LmMatrix::Exact, _) => h,
-                    (LmMatrix::GaussNewton, Some(gn)) => gn,
-                    (LmMatrix::GaussNewton, None) => run
-                        .hessians(positions, HessianKind::GaussNewton)
-                        .gauss_newton
-                        .expect("asked for"),
+                let (h, key) = match (options.lm_matrix, gauss_newton) {
+                    (LmMatrix::Exact, _) => (h, exact_key),
+                    (LmMatrix::GaussNewton, Some(gn)) => (gn, exact_key + 1),
+                    (LmMatrix::GaussNewton, None) => {
+                        let gn = run
+                            .hessians(positions, HessianKind::GaussNewton)
+                            .gauss_newton
+                            .expect("asked for");
+                        (gn, 2 * run.passes + 1)
+                    }
                 };
                 let scale = diagonal_scale(&h);
                 // The best ν changes slowly from one iteration to the next: the search
@@ -590,7 +647,7 @@ pub fn newton_observed_with_hessians<R: Representation>(
                 // diagonal scale, same Hessians), the first at a small ν, so that it finds
                 // the longest decreasing step.
                 let start = last_nu.unwrap_or(scale * 1e-3);
-                if let Some((nu, trial)) = run.lm_search(&h, &g, positions, terms.f, start) {
+                if let Some((nu, trial)) = run.lm_search((&h, key), &g, positions, terms.f, start) {
                     last_nu = Some(nu);
                     step = Some((trial, None, StepKind::LevenbergMarquardt, Some(nu)));
                 } else if let Some(trial) = run.steepest_descent(&g, positions, terms.f, scale) {
@@ -615,6 +672,12 @@ pub fn newton_observed_with_hessians<R: Representation>(
         } else {
             0
         };
+        run.forcing = forcing_term(
+            run.forcing,
+            g_before,
+            norm(&g),
+            options.relative_gradient * g0,
+        );
         run.report.iterations.push(Iteration {
             terms,
             gradient_norm: norm(&g),
@@ -631,8 +694,26 @@ pub fn newton_observed_with_hessians<R: Representation>(
         }
     }
     let mut report = run.report;
+    (report.cg_iterations, report.cg_seconds) = run.solver.krylov_work();
     if !report.converged {
         report.converged = norm(&g) <= options.relative_gradient * g0;
     }
     Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::forcing_term;
+
+    #[test]
+    fn forcing_term_follows_eisenstat_walker_with_its_safeguards() {
+        // γ (‖g_k‖/‖g_{k−1}‖)² with γ = 0.9.
+        assert!((forcing_term(0.01, 1.0, 0.1, 0.0) - 0.009).abs() < 1e-15);
+        // No sudden drop from a large previous term: at least 0.9 η²_{k−1} when that is > 0.1.
+        assert!((forcing_term(0.5, 1.0, 0.1, 0.0) - 0.225).abs() < 1e-15);
+        // At most ½.
+        assert_eq!(forcing_term(0.5, 1.0, 1.0, 0.0), 0.5);
+        // No more accuracy than the gradient tolerance needs: ½ target / ‖g‖.
+        assert!((forcing_term(0.01, 1.0, 1e-3, 1e-6) - 5e-4).abs() < 1e-15);
+    }
 }

@@ -73,11 +73,31 @@ pub fn multiply(h: &BlockHessian, x: &[f64]) -> Vec<f64> {
         )
 }
 
-/// Solves (H + `shift` I) x = b from x = 0 by CG preconditioned with `precondition` (r ↦ B⁻¹ r, which
-/// must be symmetric positive definite), until ‖r‖ ≤ `tolerance` · ‖b‖.
+/// Solves (H + `shift` I) x = b from x = 0 by CG preconditioned with `precondition` (r ↦ B⁻¹ r,
+/// which must be symmetric positive definite), until ‖r‖ ≤ `tolerance` · ‖b‖.
 pub fn pcg(
     h: &BlockHessian,
     shift: f64,
+    b: &[f64],
+    precondition: &dyn Fn(&[f64]) -> Vec<f64>,
+    tolerance: f64,
+    max_iterations: usize,
+) -> CgOutcome {
+    let operator = |p: &[f64]| {
+        let mut hp = multiply(h, p);
+        if shift != 0.0 {
+            for (y, x) in hp.iter_mut().zip(p) {
+                *y += shift * x;
+            }
+        }
+        hp
+    };
+    pcg_operator(&operator, b, precondition, tolerance, max_iterations)
+}
+
+/// [`pcg`] for the symmetric operator `apply` (x ↦ A x).
+pub fn pcg_operator(
+    apply: &(dyn Fn(&[f64]) -> Vec<f64> + Sync),
     b: &[f64],
     precondition: &dyn Fn(&[f64]) -> Vec<f64>,
     tolerance: f64,
@@ -104,12 +124,7 @@ pub fn pcg(
         if rz.is_nan() || rz <= 0.0 {
             return outcome(x, k, residual, CgStop::Indefinite);
         }
-        let mut hp = multiply(h, &p);
-        if shift != 0.0 {
-            for (y, x) in hp.iter_mut().zip(&p) {
-                *y += shift * x;
-            }
-        }
+        let hp = apply(&p);
         let curvature = dot(&p, &hp);
         if curvature.is_nan() || curvature <= 0.0 {
             return outcome(x, k, residual, CgStop::Indefinite);

@@ -1,0 +1,449 @@
+//! Symmetric sparse matrices of 3 × 3 blocks stored by rows, both triangles: the form in
+//! which the multilevel solver multiplies by the Hessian (rows in parallel, no per-thread
+//! copies of the result) and forms the coarse levels' Galerkin products Pᵀ A P.
+
+use rayon::prelude::*;
+
+use crate::fair::functional::evaluation::BlockHessian;
+
+/// A 3 × 3 block.
+pub type Block = [[f64; 3]; 3];
+
+/// A symmetric matrix of 3 × 3 blocks, every row's blocks sorted by column.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BlockCsr {
+    pub row_start: Vec<usize>,
+    pub columns: Vec<u32>,
+    pub values: Vec<Block>,
+}
+
+/// A prolongation P (fine unknown vertex × coarse unknown vertex, scalar weights acting on
+/// each coordinate alike) by rows, and its transpose.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Prolongation {
+    pub coarse_count: usize,
+    rows: Csr,
+    transposed: Csr,
+}
+
+/// A scalar sparse matrix by rows.
+#[derive(Debug, Clone, PartialEq)]
+struct Csr {
+    start: Vec<usize>,
+    columns: Vec<u32>,
+    weights: Vec<f64>,
+}
+
+impl Csr {
+    fn row(&self, i: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let range = self.start[i]..self.start[i + 1];
+        self.columns[range.clone()]
+            .iter()
+            .zip(&self.weights[range])
+            .map(|(&c, &w)| (c as usize, w))
+    }
+
+    fn transpose(&self, column_count: usize) -> Csr {
+        let mut count = vec![0usize; column_count + 1];
+        for &c in &self.columns {
+            count[c as usize + 1] += 1;
+        }
+        for k in 0..column_count {
+            count[k + 1] += count[k];
+        }
+        let mut next = count.clone();
+        let mut columns = vec![0u32; self.columns.len()];
+        let mut weights = vec![0.0; self.columns.len()];
+        for row in 0..self.start.len() - 1 {
+            for (c, w) in self.row(row) {
+                columns[next[c]] = row as u32;
+                weights[next[c]] = w;
+                next[c] += 1;
+            }
+        }
+        Csr {
+            start: count,
+            columns,
+            weights,
+        }
+    }
+}
+
+impl Prolongation {
+    /// P from its rows: `rows[i]` lists (coarse index, weight) of fine unknown vertex i.
+    pub fn new(coarse_count: usize, rows: &[Vec<(u32, f64)>]) -> Self {
+        let mut start = Vec::with_capacity(rows.len() + 1);
+        start.push(0);
+        let mut columns = Vec::new();
+        let mut weights = Vec::new();
+        for row in rows {
+            for &(c, w) in row {
+                debug_assert!((c as usize) < coarse_count);
+                columns.push(c);
+                weights.push(w);
+            }
+            start.push(columns.len());
+        }
+        let rows = Csr {
+            start,
+            columns,
+            weights,
+        };
+        let transposed = rows.transpose(coarse_count);
+        Prolongation {
+            coarse_count,
+            rows,
+            transposed,
+        }
+    }
+
+    /// Fine unknown vertices (rows).
+    pub fn fine_count(&self) -> usize {
+        self.rows.start.len() - 1
+    }
+
+    /// x_fine += P x_coarse (3 coordinates per vertex).
+    pub fn add_prolonged(&self, coarse: &[f64], fine: &mut [f64]) {
+        fine.par_chunks_mut(3).enumerate().for_each(|(i, out)| {
+            for (c, w) in self.rows.row(i) {
+                for a in 0..3 {
+                    out[a] += w * coarse[3 * c + a];
+                }
+            }
+        });
+    }
+
+    /// Pᵀ x_fine.
+    pub fn restrict(&self, fine: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; 3 * self.coarse_count];
+        out.par_chunks_mut(3).enumerate().for_each(|(c, out)| {
+            for (i, w) in self.transposed.row(c) {
+                for a in 0..3 {
+                    out[a] += w * fine[3 * i + a];
+                }
+            }
+        });
+        out
+    }
+}
+
+/// Where each block of a [`BlockCsr`] comes from in a [`BlockHessian`] of a fixed pattern:
+/// computed once, since every Hessian of a run has the same blocks.
+#[derive(Debug, Clone)]
+pub struct UpperLayout {
+    row_start: Vec<usize>,
+    columns: Vec<u32>,
+    /// Index into the Hessian's blocks, with [`TRANSPOSED`] set for a block of the lower
+    /// triangle (the transpose of an upper one).
+    source: Vec<u32>,
+    block_count: usize,
+}
+
+const TRANSPOSED: u32 = 1 << 31;
+
+impl UpperLayout {
+    /// The layout of the full symmetric matrix of `h` (upper blocks, row ≤ column) over
+    /// `n` vertices.
+    pub fn new(h: &BlockHessian, n: usize) -> Self {
+        assert!(h.blocks.len() < TRANSPOSED as usize, "Hessian too large");
+        let mut count = vec![0usize; n + 1];
+        for &(i, j) in &h.blocks {
+            count[i as usize + 1] += 1;
+            if i != j {
+                count[j as usize + 1] += 1;
+            }
+        }
+        for k in 0..n {
+            count[k + 1] += count[k];
+        }
+        let mut next = count.clone();
+        let mut entries = vec![(0u32, 0u32); count[n]];
+        for (k, &(i, j)) in h.blocks.iter().enumerate() {
+            entries[next[i as usize]] = (j, k as u32);
+            next[i as usize] += 1;
+            if i != j {
+                entries[next[j as usize]] = (i, k as u32 | TRANSPOSED);
+                next[j as usize] += 1;
+            }
+        }
+        for row in 0..n {
+            entries[count[row]..count[row + 1]].sort_unstable_by_key(|e| e.0);
+        }
+        UpperLayout {
+            row_start: count,
+            columns: entries.iter().map(|e| e.0).collect(),
+            source: entries.iter().map(|e| e.1).collect(),
+            block_count: h.blocks.len(),
+        }
+    }
+
+    /// Whether `h` has the pattern this layout was made for (by its number of blocks: the
+    /// Hessians of one functional differ only in values).
+    pub fn fits(&self, h: &BlockHessian) -> bool {
+        h.blocks.len() == self.block_count
+    }
+
+    /// The full symmetric matrix of `h`; a diagonal block is read from its upper triangle
+    /// (the lower one of a Hessian's diagonal block need not be filled).
+    pub fn fill(&self, h: &BlockHessian) -> BlockCsr {
+        let values = self
+            .source
+            .par_iter()
+            .map(|&s| {
+                let v = &h.values[(s & !TRANSPOSED) as usize];
+                let (i, j) = h.blocks[(s & !TRANSPOSED) as usize];
+                if i == j {
+                    std::array::from_fn(|a| std::array::from_fn(|b| v[a.min(b)][a.max(b)]))
+                } else if s & TRANSPOSED != 0 {
+                    std::array::from_fn(|a| std::array::from_fn(|b| v[b][a]))
+                } else {
+                    *v
+                }
+            })
+            .collect();
+        BlockCsr {
+            row_start: self.row_start.clone(),
+            columns: self.columns.clone(),
+            values,
+        }
+    }
+}
+
+impl BlockCsr {
+    /// Block rows (vertices).
+    pub fn size(&self) -> usize {
+        self.row_start.len() - 1
+    }
+
+    /// `shift` · I as a block matrix over `n` vertices.
+    pub fn scaled_identity(n: usize, shift: f64) -> Self {
+        BlockCsr {
+            row_start: (0..=n).collect(),
+            columns: (0..n as u32).collect(),
+            values: vec![diagonal_block(shift); n],
+        }
+    }
+
+    /// y = (A + `shift` I) x.
+    pub fn multiply(&self, x: &[f64], shift: f64) -> Vec<f64> {
+        let mut y = vec![0.0; x.len()];
+        y.par_chunks_mut(3).enumerate().for_each(|(i, out)| {
+            let mut sum = [shift * x[3 * i], shift * x[3 * i + 1], shift * x[3 * i + 2]];
+            for k in self.row_start[i]..self.row_start[i + 1] {
+                let j = 3 * self.columns[k] as usize;
+                let v = &self.values[k];
+                for (a, s) in sum.iter_mut().enumerate() {
+                    *s += v[a][0] * x[j] + v[a][1] * x[j + 1] + v[a][2] * x[j + 2];
+                }
+            }
+            out.copy_from_slice(&sum);
+        });
+        y
+    }
+
+    /// The slot of block (`row`, `column`), if it is in the pattern.
+    pub fn slot(&self, row: usize, column: u32) -> Option<usize> {
+        let range = self.row_start[row]..self.row_start[row + 1];
+        self.columns[range.clone()]
+            .binary_search(&column)
+            .ok()
+            .map(|k| range.start + k)
+    }
+
+    /// The diagonal blocks (zero where one is not in the pattern).
+    pub fn diagonal(&self) -> Vec<Block> {
+        (0..self.size())
+            .into_par_iter()
+            .map(|i| {
+                self.slot(i, i as u32)
+                    .map_or([[0.0; 3]; 3], |k| self.values[k])
+            })
+            .collect()
+    }
+
+    /// The Galerkin product Pᵀ A P (the coarse level's matrix): rows in parallel, each
+    /// accumulated densely over the coarse vertices its fine vertices reach.
+    pub fn galerkin(&self, p: &Prolongation) -> BlockCsr {
+        let nc = p.coarse_count;
+        let rows: Vec<(Vec<u32>, Vec<Block>)> = (0..nc)
+            .into_par_iter()
+            .map_init(
+                || (vec![[[0.0; 3]; 3]; nc], vec![false; nc], Vec::new()),
+                |(acc, seen, touched), coarse_row| {
+                    for (i, wi) in p.transposed.row(coarse_row) {
+                        for k in self.row_start[i]..self.row_start[i + 1] {
+                            let j = self.columns[k] as usize;
+                            let v = &self.values[k];
+                            for (c, wj) in p.rows.row(j) {
+                                let w = wi * wj;
+                                if !seen[c] {
+                                    seen[c] = true;
+                                    touched.push(c as u32);
+                                }
+                                let out = &mut acc[c];
+                                for a in 0..3 {
+                                    for b in 0..3 {
+                                        out[a][b] += w * v[a][b];
+                                    }
+                                }
+                            }
+                        }
+                    }
+                    touched.sort_unstable();
+                    let values = touched
+                        .iter()
+                        .map(|&c| {
+                            seen[c as usize] = false;
+                            std::mem::replace(&mut acc[c as usize], [[0.0; 3]; 3])
+                        })
+                        .collect();
+                    (std::mem::take(touched), values)
+                },
+            )
+            .collect();
+        let mut row_start = Vec::with_capacity(nc + 1);
+        row_start.push(0);
+        for (columns, _) in &rows {
+            row_start.push(row_start.last().expect("starts at 0") + columns.len());
+        }
+        let mut columns = Vec::with_capacity(*row_start.last().expect("nonempty"));
+        let mut values = Vec::with_capacity(columns.capacity());
+        for (c, v) in rows {
+            columns.extend(c);
+            values.extend(v);
+        }
+        BlockCsr {
+            row_start,
+            columns,
+            values,
+        }
+    }
+
+    /// The upper blocks (row ≤ column) as a [`BlockHessian`], for the Cholesky factorizer.
+    pub fn to_upper(&self) -> BlockHessian {
+        let mut blocks = Vec::new();
+        let mut values = Vec::new();
+        for i in 0..self.size() {
+            for k in self.row_start[i]..self.row_start[i + 1] {
+                let j = self.columns[k];
+                if j as usize >= i {
+                    blocks.push((i as u32, j));
+                    values.push(self.values[k]);
+                }
+            }
+        }
+        BlockHessian { blocks, values }
+    }
+}
+
+/// s · I₃.
+pub fn diagonal_block(s: f64) -> Block {
+    [[s, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A dense symmetric 3n × 3n matrix as upper blocks.
+    fn hessian(n: usize, seed: u64) -> (BlockHessian, Vec<Vec<f64>>) {
+        let mut dense = vec![vec![0.0; 3 * n]; 3 * n];
+        let mut state = seed;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+        };
+        let mut blocks = Vec::new();
+        let mut values = Vec::new();
+        for i in 0..n {
+            for j in i..n {
+                if j > i + 2 {
+                    continue;
+                }
+                let mut v: Block = std::array::from_fn(|_| std::array::from_fn(|_| next()));
+                if i == j {
+                    // Symmetric: the lower triangle mirrors the upper one.
+                    v = std::array::from_fn(|a| std::array::from_fn(|b| v[a.min(b)][a.max(b)]));
+                }
+                for a in 0..3 {
+                    for b in 0..3 {
+                        dense[3 * i + a][3 * j + b] = v[a][b];
+                        dense[3 * j + b][3 * i + a] = v[a][b];
+                    }
+                }
+                if i == j {
+                    // Only the upper triangle is meaningful in a Hessian's diagonal block.
+                    v[2][0] = f64::NAN;
+                }
+                blocks.push((i as u32, j as u32));
+                values.push(v);
+            }
+        }
+        (BlockHessian { blocks, values }, dense)
+    }
+
+    fn dense_product(m: &[Vec<f64>], x: &[f64]) -> Vec<f64> {
+        m.iter()
+            .map(|row| row.iter().zip(x).map(|(a, b)| a * b).sum())
+            .collect()
+    }
+
+    #[test]
+    fn the_full_matrix_multiplies_as_the_dense_one() {
+        let (h, dense) = hessian(7, 3);
+        let a = UpperLayout::new(&h, 7).fill(&h);
+        let x: Vec<f64> = (0..21).map(|k| (k as f64 * 0.7).cos()).collect();
+        let mut expected = dense_product(&dense, &x);
+        for (y, x) in expected.iter_mut().zip(&x) {
+            *y += 0.5 * x;
+        }
+        for (y, e) in a.multiply(&x, 0.5).iter().zip(&expected) {
+            assert!((y - e).abs() < 1e-14, "{y} {e}");
+        }
+    }
+
+    #[test]
+    fn galerkin_product_is_pt_a_p() {
+        let n = 7;
+        let (h, dense) = hessian(n, 11);
+        let a = UpperLayout::new(&h, n).fill(&h);
+        // Coarse vertex c ↦ fine 2c with weight 1 and its neighbours with ½.
+        let nc = 4;
+        let rows: Vec<Vec<(u32, f64)>> = (0..n)
+            .map(|i| {
+                if i % 2 == 0 {
+                    vec![(i as u32 / 2, 1.0)]
+                } else {
+                    vec![(i as u32 / 2, 0.5), (i as u32 / 2 + 1, 0.5)]
+                }
+            })
+            .collect();
+        let p = Prolongation::new(nc, &rows);
+        let coarse = a.galerkin(&p);
+        // Column by column: Pᵀ A P e = restrict(A (P e)).
+        for k in 0..3 * nc {
+            let mut e = vec![0.0; 3 * nc];
+            e[k] = 1.0;
+            let mut fine = vec![0.0; 3 * n];
+            p.add_prolonged(&e, &mut fine);
+            let expected = p.restrict(&dense_product(&dense, &fine));
+            let got = coarse.multiply(&e, 0.0);
+            for (g, x) in got.iter().zip(&expected) {
+                assert!((g - x).abs() < 1e-14, "column {k}: {g} {x}");
+            }
+        }
+        // Symmetric, and its upper blocks give the same matrix back.
+        let upper = coarse.to_upper();
+        let again = UpperLayout::new(&upper, nc).fill(&upper);
+        assert_eq!(again.columns, coarse.columns);
+        for (x, y) in again.values.iter().zip(&coarse.values) {
+            for a in 0..3 {
+                for b in 0..3 {
+                    assert!((x[a][b] - y[a][b]).abs() < 1e-14);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,273 @@
+//! The multigrid V-cycle that preconditions the conjugate gradients of the multilevel
+//! solver: Galerkin coarse matrices Pᵀ A P through the Catmull–Clark prolongations,
+//! Chebyshev smoothing with the 3 × 3 block diagonal, a Cholesky factor at the coarsest
+//! level.
+//!
+//! Why Chebyshev: it needs only products with A (parallel, unlike Gauss–Seidel) and an
+//! upper bound of the spectrum of D⁻¹A, and it is symmetric, so the V-cycle is a
+//! symmetric positive definite preconditioner for CG.
+
+use std::sync::Arc;
+
+use rayon::prelude::*;
+
+use super::block_csr::{Block, BlockCsr, Prolongation};
+use crate::fair::solvers::cholesky::{Factor, Factorizer};
+
+/// Chebyshev steps before and after each coarse correction.
+const SMOOTHING_DEGREE: usize = 3;
+/// The smoother damps the part of the spectrum of D⁻¹A above λ_max / this; the rest is
+/// the coarse level's. A fourth-order energy on a mesh of half the spacing: modes the
+/// coarse level cannot hold have eigenvalues above about 1/16 of the largest.
+const SMOOTHED_RANGE: f64 = 20.0;
+/// Power iterations for λ_max(D⁻¹A), and the safety factor on their estimate (an
+/// underestimate would amplify the top of the spectrum).
+const POWER_ITERATIONS: usize = 10;
+const LAMBDA_SAFETY: f64 = 1.15;
+
+/// The matrices of every level for one Hessian, before a shift: level 0 the Hessian.
+pub struct LevelMatrices {
+    pub matrices: Vec<Arc<BlockCsr>>,
+    /// Upper bounds of λ_max(D⁻¹A) per level (the coarsest's is not used).
+    pub lambda_max: Vec<f64>,
+}
+
+/// The Galerkin image of the identity on each level (level 0: I), as slots in that
+/// level's matrices: the shift ν I of the finest level is ν Mₗ on level l.
+pub struct Masses {
+    /// Per coarse level l ≥ 1: (slot in Aₗ, weight of I₃ there).
+    slots: Vec<Vec<(usize, f64)>>,
+    /// λ_max(diag(Mₗ)⁻¹ Mₗ) per level (level 0: 1).
+    lambda_max: Vec<f64>,
+}
+
+impl LevelMatrices {
+    /// The coarse levels of `fine` through `prolongations`.
+    pub fn new(fine: Arc<BlockCsr>, prolongations: &[Prolongation]) -> Self {
+        let mut matrices = vec![fine];
+        for p in prolongations {
+            let coarse = matrices.last().expect("nonempty").galerkin(p);
+            matrices.push(Arc::new(coarse));
+        }
+        let lambda_max = matrices.iter().map(|a| spectral_bound(a)).collect();
+        LevelMatrices {
+            matrices,
+            lambda_max,
+        }
+    }
+}
+
+impl Masses {
+    /// The masses of the levels of `levels` (whose patterns they are placed in).
+    /// `None` if a mass entry falls outside a level's pattern (a free vertex without a
+    /// diagonal Hessian block).
+    pub fn new(levels: &LevelMatrices, prolongations: &[Prolongation]) -> Option<Self> {
+        let mut mass = BlockCsr::scaled_identity(levels.matrices[0].size(), 1.0);
+        let mut slots = vec![Vec::new()];
+        let mut lambda_max = vec![1.0];
+        for (p, a) in prolongations.iter().zip(&levels.matrices[1..]) {
+            mass = mass.galerkin(p);
+            let mut level = Vec::with_capacity(mass.values.len());
+            for row in 0..mass.size() {
+                for k in mass.row_start[row]..mass.row_start[row + 1] {
+                    level.push((a.slot(row, mass.columns[k])?, mass.values[k][0][0]));
+                }
+            }
+            slots.push(level);
+            lambda_max.push(spectral_bound(&mass));
+        }
+        Some(Masses { slots, lambda_max })
+    }
+}
+
+/// One level of a V-cycle for a shift ν.
+struct Level {
+    matrix: Arc<BlockCsr>,
+    /// ν on the finest level (its matrix is the Hessian's, unshifted); 0 below (the
+    /// shift ν Mₗ is in the matrix).
+    shift: f64,
+    inverse_diagonal: Vec<Block>,
+    lambda_max: f64,
+}
+
+/// The V-cycle preconditioner of A + ν I.
+pub struct Multigrid {
+    levels: Vec<Level>,
+    prolongations: Arc<[Prolongation]>,
+    coarsest: Factor,
+}
+
+impl Multigrid {
+    /// The V-cycle of `levels`' matrices shifted by ν; `None` when a diagonal block or the
+    /// coarsest matrix is not positive definite.
+    pub fn new(
+        levels: &LevelMatrices,
+        masses: &Masses,
+        prolongations: Arc<[Prolongation]>,
+        nu: f64,
+        factorizer: &mut Factorizer,
+    ) -> Option<Self> {
+        let last = levels.matrices.len() - 1;
+        let mut out = Vec::with_capacity(last + 1);
+        for (l, a) in levels.matrices.iter().enumerate() {
+            let (matrix, shift) = if l == 0 || nu == 0.0 {
+                (Arc::clone(a), if l == 0 { nu } else { 0.0 })
+            } else {
+                let mut shifted = BlockCsr::clone(a);
+                for &(slot, w) in &masses.slots[l] {
+                    for d in 0..3 {
+                        shifted.values[slot][d][d] += nu * w;
+                    }
+                }
+                (Arc::new(shifted), 0.0)
+            };
+            if l == last {
+                let coarsest = factorizer.factor(&matrix.to_upper(), shift).ok()?;
+                return Some(Multigrid {
+                    levels: out,
+                    prolongations,
+                    coarsest,
+                });
+            }
+            let inverse_diagonal = matrix
+                .diagonal()
+                .into_par_iter()
+                .map(|d| inverse_spd(&d, shift))
+                .collect::<Option<Vec<_>>>()?;
+            out.push(Level {
+                matrix,
+                shift,
+                inverse_diagonal,
+                lambda_max: levels.lambda_max[l].max(masses.lambda_max[l]),
+            });
+        }
+        unreachable!("the loop returns at the coarsest level")
+    }
+
+    /// B⁻¹ r: one V-cycle from zero.
+    pub fn apply(&self, r: &[f64]) -> Vec<f64> {
+        self.cycle(0, r)
+    }
+
+    fn cycle(&self, l: usize, b: &[f64]) -> Vec<f64> {
+        let Some(level) = self.levels.get(l) else {
+            let mut x = self.coarsest.newton_step(b);
+            x.iter_mut().for_each(|v| *v = -*v);
+            return x;
+        };
+        let mut x = vec![0.0; b.len()];
+        level.smooth(b, &mut x, true);
+        let ax = level.matrix.multiply(&x, level.shift);
+        let residual: Vec<f64> = b.par_iter().zip(&ax).map(|(b, a)| b - a).collect();
+        let p = &self.prolongations[l];
+        let correction = self.cycle(l + 1, &p.restrict(&residual));
+        p.add_prolonged(&correction, &mut x);
+        level.smooth(b, &mut x, false);
+        x
+    }
+}
+
+impl Level {
+    /// `SMOOTHING_DEGREE` Chebyshev steps for A x = b from `x` (zero if `from_zero`), on
+    /// [λ_max / SMOOTHED_RANGE, λ_max] of D⁻¹A (Saad, Iterative Methods, Alg. 12.1).
+    fn smooth(&self, b: &[f64], x: &mut [f64], from_zero: bool) {
+        let upper = self.lambda_max;
+        let lower = upper / SMOOTHED_RANGE;
+        let theta = 0.5 * (upper + lower);
+        let delta = 0.5 * (upper - lower);
+        let mut r: Vec<f64> = if from_zero {
+            b.to_vec()
+        } else {
+            let ax = self.matrix.multiply(x, self.shift);
+            b.par_iter().zip(&ax).map(|(b, a)| b - a).collect()
+        };
+        let mut d = self.scaled(&r, 1.0 / theta);
+        let mut rho = delta / theta;
+        for k in 0..SMOOTHING_DEGREE {
+            x.par_iter_mut().zip(&d).for_each(|(x, d)| *x += d);
+            if k + 1 == SMOOTHING_DEGREE {
+                break;
+            }
+            let ad = self.matrix.multiply(&d, self.shift);
+            r.par_iter_mut().zip(&ad).for_each(|(r, a)| *r -= a);
+            let rho_next = 1.0 / (2.0 * theta / delta - rho);
+            let z = self.scaled(&r, 2.0 * rho_next / delta);
+            let keep = rho_next * rho;
+            d.par_iter_mut()
+                .zip(&z)
+                .for_each(|(d, z)| *d = keep * *d + z);
+            rho = rho_next;
+        }
+    }
+
+    /// s · D⁻¹ r.
+    fn scaled(&self, r: &[f64], s: f64) -> Vec<f64> {
+        let mut out = vec![0.0; r.len()];
+        out.par_chunks_mut(3)
+            .zip(&self.inverse_diagonal)
+            .enumerate()
+            .for_each(|(i, (out, m))| {
+                for a in 0..3 {
+                    out[a] =
+                        s * (m[a][0] * r[3 * i] + m[a][1] * r[3 * i + 1] + m[a][2] * r[3 * i + 2]);
+                }
+            });
+        out
+    }
+}
+
+/// (D + shift · I)⁻¹ for a symmetric 3 × 3 block, `None` unless positive definite.
+fn inverse_spd(d: &Block, shift: f64) -> Option<Block> {
+    let m: Block = std::array::from_fn(|a| {
+        std::array::from_fn(|b| d[a][b] + if a == b { shift } else { 0.0 })
+    });
+    // Positive definite iff the leading minors are positive (Sylvester).
+    let minor2 = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    let cofactor: Block = std::array::from_fn(|a| {
+        std::array::from_fn(|b| {
+            let (r0, r1) = ((b + 1) % 3, (b + 2) % 3);
+            let (c0, c1) = ((a + 1) % 3, (a + 2) % 3);
+            m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]
+        })
+    });
+    let det = m[0][0] * cofactor[0][0] + m[0][1] * cofactor[1][0] + m[0][2] * cofactor[2][0];
+    if !(m[0][0] > 0.0 && minor2 > 0.0 && det > 0.0 && det.is_finite()) {
+        return None;
+    }
+    Some(std::array::from_fn(|a| {
+        std::array::from_fn(|b| cofactor[a][b] / det)
+    }))
+}
+
+/// An upper bound of λ_max(D⁻¹A) (D the block diagonal): power iterations from a fixed
+/// start, times a safety factor; the magnitude of the Rayleigh quotient, so that an
+/// indefinite A still gets a finite bound (its V-cycle then fails in CG, as it should).
+fn spectral_bound(a: &BlockCsr) -> f64 {
+    let inverse: Option<Vec<Block>> = a.diagonal().iter().map(|d| inverse_spd(d, 0.0)).collect();
+    let Some(inverse) = inverse else {
+        return f64::INFINITY;
+    };
+    let n = 3 * a.size();
+    let mut x: Vec<f64> = (0..n)
+        .map(|k| 1.0 + ((k * 7919) % 101) as f64 / 101.0)
+        .collect();
+    let mut estimate: f64 = 1.0;
+    for _ in 0..POWER_ITERATIONS {
+        let norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if !(norm > 0.0 && norm.is_finite()) {
+            break;
+        }
+        x.iter_mut().for_each(|v| *v /= norm);
+        let ax = a.multiply(&x, 0.0);
+        let mut y = vec![0.0; n];
+        for (i, m) in inverse.iter().enumerate() {
+            for p in 0..3 {
+                y[3 * i + p] = (0..3).map(|q| m[p][q] * ax[3 * i + q]).sum();
+            }
+        }
+        // ‖D⁻¹A x‖ for a unit x: a lower bound of λ_max that converges to it.
+        estimate = estimate.max(y.iter().map(|v| v * v).sum::<f64>().sqrt());
+        x = y;
+    }
+    LAMBDA_SAFETY * estimate
+}
