@@ -40,13 +40,16 @@ SIZES = {
 class Run:
     wall: float
     peak_gb: float
-    report: dict | None  # None when stopped at the timeout
+    report: dict | None  # None when stopped at the timeout or refused
+    error: str = ""  # why surfkit refused the run (its message), if it did
 
     @property
     def converged(self) -> bool:
         return self.report is not None and self.report["newton"]["converged"]
 
     def cells(self) -> str:
+        if self.error:
+            return f"{'refused:':>9}  {self.error[:60]}"
         if self.report is None:
             return f"> {self.wall:7.0f}  {self.peak_gb:5.2f}    (stopped)"
         newton = self.report["newton"]
@@ -59,9 +62,9 @@ class Run:
 
 def run_measured(args: list[str], timeout: float) -> Run:
     """One child process: wall seconds, peak RSS and its JSON report (None if stopped)."""
-    with tempfile.TemporaryFile() as out:
+    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
         start = time.monotonic()
-        child = subprocess.Popen(args, stdout=out, stderr=subprocess.DEVNULL)
+        child = subprocess.Popen(args, stdout=out, stderr=err)
         while True:
             pid, status, usage = os.wait4(child.pid, os.WNOHANG)
             if pid:
@@ -74,8 +77,11 @@ def run_measured(args: list[str], timeout: float) -> Run:
         wall = time.monotonic() - start
         child.returncode = os.waitstatus_to_exitcode(status)
         out.seek(0)
-        report = json.loads(out.read())["report"]
-        return Run(wall, usage.ru_maxrss / 1e6, report)
+        text = out.read()
+        if not text:
+            err.seek(0)
+            return Run(wall, usage.ru_maxrss / 1e6, None, err.read().decode().strip())
+        return Run(wall, usage.ru_maxrss / 1e6, json.loads(text)["report"])
 
 
 def main() -> None:
@@ -123,6 +129,8 @@ def main() -> None:
         print("speed-up of the multilevel method (plain wall / multilevel wall):")
         for name, row in results.items():
             plain, multilevel = row["plain"], row["multilevel"]
+            if plain.error or multilevel.report is None:
+                continue
             bound = ">" if plain.report is None else ""
             print(f"  {name}: {bound}{plain.wall / multilevel.wall:.2f}x")
     if "multilevel" in methods:

@@ -9,7 +9,7 @@ use std::process::Command;
 
 use surfkit::fair::{
     optimize, refine_surface, tubes, FairMethod, FairOptions, FairReport, RepresentationOptions,
-    SurfaceKind, MULTILEVEL_FREE_VERTICES, PLAIN_BYTES_PER_FREE_VERTEX,
+    SurfaceKind, MULTILEVEL_FREE_VERTICES, PLAIN_MEMORY,
 };
 use surfkit::limits::MemoryBudget;
 use surfkit::mesh::PolygonMesh;
@@ -170,27 +170,24 @@ fn fair_multilevel_is_chosen_automatically_for_large_refined_meshes() {
 
 #[test]
 fn fair_refuses_a_problem_beyond_the_memory_budget() {
-    // 3167 free vertices: about 250 MB for the plain method, 190 MB for the multilevel
-    // one (`PLAIN_BYTES_PER_FREE_VERTEX`, `MULTILEVEL_BYTES_PER_FREE_VERTEX`); a budget of
-    // 200 MB refuses the plain method with an error naming the size and what fits.
+    // 3167 free vertices: about 454 MiB for the plain method (`PLAIN_MEMORY`); a budget
+    // of 400 MiB refuses it with an error naming the size and what fits, 600 MiB runs it.
     let mesh = refine_surface(&tubes(3, 8, 2).unwrap(), 1).unwrap();
-    let options = |method| FairOptions {
+    let options = |budget: u64| FairOptions {
         representation: RepresentationOptions {
-            memory: MemoryBudget::bytes(200 << 20),
+            memory: MemoryBudget::bytes(budget << 20),
             ..RepresentationOptions::default()
         },
         max_refinements: 0,
-        method,
+        method: FairMethod::Plain,
         ..FairOptions::default()
     };
-    let err = optimize(&mesh, &options(FairMethod::Plain))
-        .unwrap_err()
-        .to_string();
+    assert!(PLAIN_MEMORY.bytes(3167) > 400 << 20 && PLAIN_MEMORY.bytes(3167) < 600 << 20);
+    let err = optimize(&mesh, &options(400)).unwrap_err().to_string();
     assert!(err.contains("fairing 3167 free vertices"), "{err}");
-    assert!(err.contains("memory limit of 200 MiB"), "{err}");
-    assert!(err.contains("--method multilevel"), "{err}");
-    let fits = (200u64 << 20) / PLAIN_BYTES_PER_FREE_VERTEX;
+    assert!(err.contains("memory limit of 400 MiB"), "{err}");
+    let fits = ((400u64 << 20) - PLAIN_MEMORY.base) / PLAIN_MEMORY.per_free_vertex;
     assert!(err.contains(&format!("{fits} free vertices fit")), "{err}");
-    let (_, report) = optimize(&mesh, &options(FairMethod::Multilevel)).unwrap();
+    let (_, report) = optimize(&mesh, &options(600)).unwrap();
     assert!(report.newton.converged);
 }

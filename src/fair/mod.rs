@@ -145,18 +145,45 @@ pub enum FairMethod {
     Multilevel,
 }
 
-/// The size from which [`FairMethod::Automatic`] takes the multilevel method.
+/// The size from which [`FairMethod::Automatic`] takes the multilevel method, by
+/// `benches/fair_ceiling.py` (G² surface, 2026-11-26): at 54 143 free vertices it took
+/// 157.6 s against the plain method's 464.8 s; below, the two are close and the plain
+/// method wins on the five-tube junction (22 077 free: 188.1 s against 221.6 s; three
+/// tubes, 13 247 free: 45.5 s against 38.0 s).
 pub const MULTILEVEL_FREE_VERTICES: usize = 30_000;
 
-/// Peak resident memory per free vertex of the plain method, the representation included:
-/// the largest measured by `benches/fair_ceiling.py` (README); its Cholesky factor's fill
-/// grows a little faster than the mesh. Checked against the memory budget before the
-/// solver's matrices are allocated, so a problem too large gets an error, not the OOM
-/// killer.
-pub const PLAIN_BYTES_PER_FREE_VERTEX: u64 = 80 << 10;
-/// The same for the multilevel method (no fine factor: Hessian, Gauss–Newton part, the
-/// level matrices).
-pub const MULTILEVEL_BYTES_PER_FREE_VERTEX: u64 = 60 << 10;
+/// Peak resident memory of a method: `base` + `per_free_vertex` · free vertices, the
+/// representation included. Checked against the memory budget before the solver's
+/// matrices are allocated, so that a problem too large gets an error, not the OOM killer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SolverMemory {
+    pub base: u64,
+    pub per_free_vertex: u64,
+}
+
+impl SolverMemory {
+    /// The peak for `free` free vertices.
+    pub fn bytes(self, free: usize) -> u64 {
+        self.base
+            .saturating_add((free as u64).saturating_mul(self.per_free_vertex))
+    }
+}
+
+/// The plain method's peak: the line through its peaks at 13 247 and 54 143 free vertices
+/// (1.06 and 3.57 GB, G² surface, `benches/fair_ceiling.py`, 2026-11-26: 61 KB per
+/// vertex), rounded up (its Cholesky factor's fill grows a little faster than the mesh).
+pub const PLAIN_MEMORY: SolverMemory = SolverMemory {
+    base: 256 << 20,
+    per_free_vertex: 64 << 10,
+};
+
+/// The multilevel method's peak (no fine factor: the Hessian, its Gauss–Newton part and
+/// the level matrices): through 0.79 and 2.18 GB at the same sizes, 34 KB per vertex,
+/// rounded up.
+pub const MULTILEVEL_MEMORY: SolverMemory = SolverMemory {
+    base: 384 << 20,
+    per_free_vertex: 40 << 10,
+};
 
 impl Default for FairOptions {
     fn default() -> Self {
@@ -477,27 +504,25 @@ fn multilevel_hierarchy<R: Representation>(
     }
 }
 
-/// Refuses a problem whose solver would pass `budget` ([`PLAIN_BYTES_PER_FREE_VERTEX`],
-/// [`MULTILEVEL_BYTES_PER_FREE_VERTEX`]), naming what would fit.
+/// Refuses a problem whose solver would pass `budget` ([`PLAIN_MEMORY`],
+/// [`MULTILEVEL_MEMORY`]), naming what would fit.
 fn check_solver_memory(free: usize, multilevel: bool, budget: MemoryBudget) -> Result<()> {
-    let per_vertex = if multilevel {
-        MULTILEVEL_BYTES_PER_FREE_VERTEX
+    let (method, memory) = if multilevel {
+        ("multilevel", MULTILEVEL_MEMORY)
     } else {
-        PLAIN_BYTES_PER_FREE_VERTEX
+        ("plain", PLAIN_MEMORY)
     };
-    let need = (free as u64).saturating_mul(per_vertex);
+    let need = memory.bytes(free);
     if need <= budget.get() {
         return Ok(());
     }
-    let method = if multilevel { "multilevel" } else { "plain" };
-    let fits = budget.get() / per_vertex;
+    let fits = budget.get().saturating_sub(memory.base) / memory.per_free_vertex;
     let mut advice = format!(
-        "the {method} method takes about {} per free vertex: {} free vertices fit",
-        human_bytes(per_vertex),
-        fits
+        "the {method} method takes about {} + {} per free vertex: {fits} free vertices fit",
+        human_bytes(memory.base),
+        human_bytes(memory.per_free_vertex),
     );
-    if !multilevel && (free as u64).saturating_mul(MULTILEVEL_BYTES_PER_FREE_VERTEX) <= budget.get()
-    {
+    if !multilevel && MULTILEVEL_MEMORY.bytes(free) <= budget.get() {
         advice.push_str("; the multilevel method (--method multilevel, for a refined mesh) fits");
     }
     Err(Error::ResourceLimit {
@@ -505,4 +530,28 @@ fn check_solver_memory(free: usize, multilevel: bool, budget: MemoryBudget) -> R
         limit: budget.get(),
         advice,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_solver_memory_check_names_what_fits() {
+        let budget = MemoryBudget::bytes(8 << 30);
+        // 150 000 free vertices: about 9.4 GiB plain, 6.1 GiB multilevel.
+        assert!(check_solver_memory(150_000, true, budget).is_ok());
+        let err = check_solver_memory(150_000, false, budget)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("fairing 150000 free vertices"), "{err}");
+        assert!(err.contains("memory limit of 8.0 GiB"), "{err}");
+        // (8 GiB − 256 MiB) / 64 KiB.
+        assert!(err.contains("126976 free vertices fit"), "{err}");
+        assert!(err.contains("--method multilevel"), "{err}");
+        let err = check_solver_memory(250_000, true, budget)
+            .unwrap_err()
+            .to_string();
+        assert!(!err.contains("--method multilevel"), "{err}");
+    }
 }
