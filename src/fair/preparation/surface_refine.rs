@@ -38,23 +38,32 @@ pub fn refine_surface(mesh: &PolygonMesh, levels: u32) -> Result<PolygonMesh> {
     Ok(current)
 }
 
-/// `mesh` without its boundary vertices (those on an edge of one face) and the faces that
-/// touch them; unused vertices are dropped too, the others renumbered in order.
-pub fn drop_boundary_ring(mesh: &PolygonMesh) -> PolygonMesh {
-    let mut uses: std::collections::HashMap<(u32, u32), u32> = Default::default();
-    for f in mesh.faces() {
+/// Whether each of `vertex_count` vertices lies on an edge of only one of `faces`.
+pub(crate) fn boundary_flags<'a>(
+    faces: impl Iterator<Item = &'a [u32]>,
+    vertex_count: usize,
+) -> Vec<bool> {
+    let mut uses: foldhash::HashMap<(u32, u32), u32> = Default::default();
+    for f in faces {
         for (i, &a) in f.iter().enumerate() {
             let b = f[(i + 1) % f.len()];
             *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
         }
     }
-    let mut boundary = vec![false; mesh.vertex_count()];
+    let mut boundary = vec![false; vertex_count];
     for (&(a, b), &n) in &uses {
         if n == 1 {
             boundary[a as usize] = true;
             boundary[b as usize] = true;
         }
     }
+    boundary
+}
+
+/// `mesh` without its boundary vertices (those on an edge of one face) and the faces that
+/// touch them; unused vertices are dropped too, the others renumbered in order.
+pub fn drop_boundary_ring(mesh: &PolygonMesh) -> PolygonMesh {
+    let boundary = boundary_flags(mesh.faces(), mesh.vertex_count());
     let kept: Vec<&[u32]> = mesh
         .faces()
         .filter(|f| f.iter().all(|&v| !boundary[v as usize]))

@@ -16,6 +16,8 @@
 
 use std::collections::VecDeque;
 
+use crate::fair::preparation::surface_refine::boundary_flags;
+
 /// What a fine vertex is in the coarse mesh's refinement.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Role {
@@ -85,7 +87,7 @@ pub fn coarsen(mesh: &FaceList) -> Option<Coarsening> {
         return None;
     }
     let incidence = Incidence::new(mesh);
-    let on_boundary = boundary_vertices(mesh);
+    let on_boundary = boundary_flags(mesh.faces.iter().map(Vec::as_slice), mesh.vertex_count);
     let mut roles: Vec<Option<Role>> = vec![None; mesh.vertex_count];
     let mut face_done = vec![false; mesh.faces.len()];
     for seed in 0..mesh.faces.len() {
@@ -190,25 +192,6 @@ pub fn coarsen(mesh: &FaceList) -> Option<Coarsening> {
         })
         .collect();
     Some(Coarsening { coarse, stencils })
-}
-
-/// Vertices on an edge of only one face.
-fn boundary_vertices(mesh: &FaceList) -> Vec<bool> {
-    let mut uses: foldhash::HashMap<(u32, u32), u32> = Default::default();
-    for f in &mesh.faces {
-        for (i, &a) in f.iter().enumerate() {
-            let b = f[(i + 1) % f.len()];
-            *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
-        }
-    }
-    let mut out = vec![false; mesh.vertex_count];
-    for (&(a, b), &n) in &uses {
-        if n == 1 {
-            out[a as usize] = true;
-            out[b as usize] = true;
-        }
-    }
-    out
 }
 
 /// Colours the component of quad `seed` from its corners `v_f` = [V corner, F corner];
