@@ -2,8 +2,6 @@
 //! plain method, exact) or conjugate gradients with a multigrid preconditioner (the
 //! multilevel method, to a relative residual the Newton iteration chooses).
 
-use std::time::Instant;
-
 use crate::fair::functional::evaluation::BlockHessian;
 use crate::fair::solvers::cholesky::{Factor, Factorizer};
 
@@ -47,9 +45,4 @@ impl StepSolver for CholeskySolver {
     fn recycle(&mut self, ready: Factor) {
         self.0.recycle(ready);
     }
-}
-
-/// Seconds since `clock`, added to `total`.
-pub(crate) fn add_elapsed(total: &mut f64, clock: Instant) {
-    *total += clock.elapsed().as_secs_f64();
 }

@@ -28,7 +28,7 @@ const LAMBDA_SAFETY: f64 = 1.15;
 /// The matrices of every level for one Hessian, before a shift: level 0 the Hessian.
 pub struct LevelMatrices {
     pub matrices: Vec<Arc<BlockCsr>>,
-    /// Upper bounds of λ_max(D⁻¹A) per level (the coarsest's is not used).
+    /// Upper bounds of λ_max(D⁻¹A) per smoothed level (all but the coarsest).
     pub lambda_max: Vec<f64>,
 }
 
@@ -49,7 +49,12 @@ impl LevelMatrices {
             let coarse = matrices.last().expect("nonempty").galerkin(p);
             matrices.push(Arc::new(coarse));
         }
-        let lambda_max = matrices.iter().map(|a| spectral_bound(a)).collect();
+        // The coarsest level is factored, not smoothed: no bound needed there.
+        let smoothed = matrices.len() - 1;
+        let lambda_max = matrices[..smoothed]
+            .iter()
+            .map(|a| spectral_bound(a))
+            .collect();
         LevelMatrices {
             matrices,
             lambda_max,
@@ -202,18 +207,22 @@ impl Level {
 
     /// s · D⁻¹ r.
     fn scaled(&self, r: &[f64], s: f64) -> Vec<f64> {
-        let mut out = vec![0.0; r.len()];
-        out.par_chunks_mut(3)
-            .zip(&self.inverse_diagonal)
-            .enumerate()
-            .for_each(|(i, (out, m))| {
-                for a in 0..3 {
-                    out[a] =
-                        s * (m[a][0] * r[3 * i] + m[a][1] * r[3 * i + 1] + m[a][2] * r[3 * i + 2]);
-                }
-            });
-        out
+        block_diagonal_product(&self.inverse_diagonal, r, s)
     }
+}
+
+/// s · M r for the block diagonal M of 3 × 3 `blocks`.
+fn block_diagonal_product(blocks: &[Block], r: &[f64], s: f64) -> Vec<f64> {
+    let mut out = vec![0.0; r.len()];
+    out.par_chunks_mut(3)
+        .zip(blocks)
+        .enumerate()
+        .for_each(|(i, (out, m))| {
+            for a in 0..3 {
+                out[a] = s * (m[a][0] * r[3 * i] + m[a][1] * r[3 * i + 1] + m[a][2] * r[3 * i + 2]);
+            }
+        });
+    out
 }
 
 /// (D + shift · I)⁻¹ for a symmetric 3 × 3 block, `None` unless positive definite.
@@ -239,9 +248,10 @@ fn inverse_spd(d: &Block, shift: f64) -> Option<Block> {
     }))
 }
 
-/// An upper bound of λ_max(D⁻¹A) (D the block diagonal): power iterations from a fixed
-/// start, times a safety factor; the magnitude of the Rayleigh quotient, so that an
-/// indefinite A still gets a finite bound (its V-cycle then fails in CG, as it should).
+/// An estimate of λ_max(D⁻¹A) (D the block diagonal) from above: the largest ‖D⁻¹A x‖ over
+/// power iterations from a fixed unit start, times a safety factor (a norm, so that an
+/// indefinite A still gets a finite bound; its V-cycle then fails in CG, as it should).
+/// Infinite when a diagonal block is not positive definite.
 fn spectral_bound(a: &BlockCsr) -> f64 {
     let inverse: Option<Vec<Block>> = a.diagonal().iter().map(|d| inverse_spd(d, 0.0)).collect();
     let Some(inverse) = inverse else {
@@ -258,13 +268,7 @@ fn spectral_bound(a: &BlockCsr) -> f64 {
             break;
         }
         x.iter_mut().for_each(|v| *v /= norm);
-        let ax = a.multiply(&x, 0.0);
-        let mut y = vec![0.0; n];
-        for (i, m) in inverse.iter().enumerate() {
-            for p in 0..3 {
-                y[3 * i + p] = (0..3).map(|q| m[p][q] * ax[3 * i + q]).sum();
-            }
-        }
+        let y = block_diagonal_product(&inverse, &a.multiply(&x, 0.0), 1.0);
         // ‖D⁻¹A x‖ for a unit x: a lower bound of λ_max that converges to it.
         estimate = estimate.max(y.iter().map(|v| v * v).sum::<f64>().sqrt());
         x = y;

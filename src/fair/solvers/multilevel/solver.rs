@@ -11,7 +11,7 @@ use super::multigrid::{LevelMatrices, Masses, Multigrid};
 use crate::fair::functional::evaluation::BlockHessian;
 use crate::fair::solvers::cholesky::Factorizer;
 use crate::fair::solvers::pcg::{pcg_operator, CgStop};
-use crate::fair::solvers::step_solver::{add_elapsed, StepSolver};
+use crate::fair::solvers::step_solver::StepSolver;
 
 /// Most CG iterations per step: a V-cycle-preconditioned solve that needs more has met a
 /// matrix the coarse levels do not fit, and its iterate is used as it is (a CG iterate
@@ -104,7 +104,7 @@ impl StepSolver for MultilevelSolver {
             MAX_CG_ITERATIONS,
         );
         self.cg_iterations += cg.iterations;
-        add_elapsed(&mut self.cg_seconds, clock);
+        self.cg_seconds += clock.elapsed().as_secs_f64();
         match cg.stop {
             CgStop::Converged | CgStop::IterationLimit => Some(cg.x),
             CgStop::Indefinite => None,
