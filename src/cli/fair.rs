@@ -533,12 +533,15 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
         if report.method == FairMethod::Multilevel {
             println!(
                 "  multilevel method: levels of {:?} unknown vertices, {} CG iterations \
-                 ({:.1} s), {} V-cycle set-ups ({:.1} s), Hessians {:.1} s",
+                 ({:.1} s), {} V-cycle set-ups ({:.1} s), {} fine Cholesky factors ({:.1} s), \
+                 Hessians {:.1} s",
                 report.multilevel_sizes,
                 n.cg_iterations,
                 n.cg_seconds,
                 n.factorizations,
                 n.factorization_seconds,
+                n.fine_factorizations,
+                n.fine_factorization_seconds,
                 n.hessian_seconds
             );
         }

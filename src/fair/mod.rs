@@ -185,6 +185,17 @@ pub const MULTILEVEL_MEMORY: SolverMemory = SolverMemory {
     per_free_vertex: 40 << 10,
 };
 
+/// The multilevel method's peak when it falls back to a Cholesky factor of the fine matrix
+/// where its V-cycle stagnates (see `solvers::multilevel::solver`): the factor on top of
+/// the levels. Through the peaks of the five-tube junctions that needed it (1.63 GB at
+/// 22 077 and 6.97 GB at 90 237 free vertices, G² surface, `surfkit fair --method
+/// multilevel`, 2026-11-26: 78 KB per vertex), rounded up. The fallback is used only when
+/// this fits the memory budget.
+pub const MULTILEVEL_WITH_FACTOR_MEMORY: SolverMemory = SolverMemory {
+    base: 256 << 20,
+    per_free_vertex: 80 << 10,
+};
+
 impl Default for FairOptions {
     fn default() -> Self {
         FairOptions {
@@ -409,7 +420,11 @@ pub fn optimize_observed(
                         curvature,
                         &mut positions,
                         &options.newton,
-                        MultilevelSolver::new(levels),
+                        MultilevelSolver::new(
+                            levels,
+                            MULTILEVEL_WITH_FACTOR_MEMORY.bytes(functional.free_count())
+                                <= options.representation.memory.get(),
+                        ),
                         &mut |it| observe(it, g0),
                     )?
                 }

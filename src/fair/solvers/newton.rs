@@ -121,6 +121,10 @@ pub struct NewtonReport {
     /// (0 for the plain method).
     pub cg_iterations: usize,
     pub cg_seconds: f64,
+    /// Cholesky factors of the fine matrix the multilevel method fell back to where its
+    /// V-cycle did not serve, and their seconds (0 for the plain method).
+    pub fine_factorizations: usize,
+    pub fine_factorization_seconds: f64,
     pub converged: bool,
     /// Stopped at the round-off floor before the gradient tolerance (see
     /// [`NewtonOptions::stall_steps`]); `converged` is false then.
@@ -150,6 +154,8 @@ impl NewtonReport {
             factorization_seconds: 0.0,
             cg_iterations: 0,
             cg_seconds: 0.0,
+            fine_factorizations: 0,
+            fine_factorization_seconds: 0.0,
             converged: initial_gradient_norm == 0.0,
             stalled: false,
             stuck: false,
@@ -695,6 +701,10 @@ pub(crate) fn newton_with_solver<R: Representation, S: StepSolver>(
     }
     let mut report = run.report;
     (report.cg_iterations, report.cg_seconds) = run.solver.krylov_work();
+    (
+        report.fine_factorizations,
+        report.fine_factorization_seconds,
+    ) = run.solver.fine_factorizations();
     if !report.converged {
         report.converged = norm(&g) <= options.relative_gradient * g0;
     }

@@ -26,6 +26,12 @@ pub trait StepSolver {
     fn krylov_work(&self) -> (usize, f64) {
         (0, 0.0)
     }
+
+    /// Cholesky factors of the fine matrix an inexact solver fell back to, and their
+    /// seconds (0 for a direct solver, whose factors are its readied matrices).
+    fn fine_factorizations(&self) -> (usize, f64) {
+        (0, 0.0)
+    }
 }
 
 /// The plain method's solver: a sparse Cholesky factor of every matrix.

@@ -1,6 +1,16 @@
 //! The multilevel method's step solver: conjugate gradients on H + νI preconditioned by
 //! one multigrid V-cycle over the un-subdivided control meshes, to the relative residual
 //! the inexact Newton iteration asks for.
+//!
+//! Near some minima the exact Hessian is nearly singular along smooth modes (the
+//! five-tube junctions: a smooth normal displacement of the whole junction), and no
+//! coarse level holds such a mode to the accuracy its tiny eigenvalue needs: CG with the
+//! V-cycle stagnates (the 23 997-vertex junction at its minimum: 264 iterations to a
+//! residual of 10⁻¹, where the three-tube one needs 25; a two-level cycle with an exact
+//! coarse solve no better). Where the memory budget holds the plain method's factor,
+//! such a solve falls back to a Cholesky factor of the fine matrix, kept as the
+//! preconditioner of the next solves while it serves (the Newton tail's Hessians change
+//! little), the factor §5 reuses.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -9,7 +19,7 @@ use super::block_csr::{BlockCsr, Prolongation, UpperLayout};
 use super::hierarchy::Hierarchy;
 use super::multigrid::{LevelMatrices, Masses, Multigrid};
 use crate::fair::functional::evaluation::BlockHessian;
-use crate::fair::solvers::cholesky::Factorizer;
+use crate::fair::solvers::cholesky::{Factor, Factorizer};
 use crate::fair::solvers::pcg::{pcg_operator, CgStop};
 use crate::fair::solvers::step_solver::StepSolver;
 
@@ -17,6 +27,24 @@ use crate::fair::solvers::step_solver::StepSolver;
 /// matrix the coarse levels do not fit, and its iterate is used as it is (a CG iterate
 /// is a descent direction).
 const MAX_CG_ITERATIONS: usize = 200;
+/// With the fine factor available: CG iterations of the V-cycle before the solve is
+/// handed to it (a solve the V-cycle serves takes under 30 on the junctions measured;
+/// the stagnating ones hundreds).
+const V_CYCLE_ITERATIONS_BEFORE_FACTOR: usize = 40;
+/// CG iterations preconditioned by a kept factor of an earlier matrix before a fresh
+/// factor is made.
+const KEPT_FACTOR_ITERATIONS: usize = 20;
+
+/// The fine level's Cholesky factorizer, for the solves the V-cycle does not serve.
+struct FineFactor {
+    factorizer: Factorizer,
+    /// The factor last made, of an earlier or the current matrix.
+    kept: Option<Factor>,
+    /// Whether the last solve needed the factor: the next solve tries it first.
+    preferred: bool,
+    factorizations: usize,
+    seconds: f64,
+}
 
 /// H + νI with its V-cycle.
 pub struct ReadyMultigrid {
@@ -34,23 +62,104 @@ pub struct MultilevelSolver {
     /// one matrix for many ν.
     cached: Option<(u64, Arc<LevelMatrices>)>,
     coarsest: Factorizer,
+    /// `None` when the fine factor does not fit the memory budget.
+    fine: Option<FineFactor>,
     cg_iterations: usize,
     cg_seconds: f64,
 }
 
 impl MultilevelSolver {
-    /// A solver over `hierarchy` (at least one coarse level).
-    pub fn new(hierarchy: Hierarchy) -> Self {
-        let coarsest = *hierarchy.sizes().last().expect("at least one level");
+    /// A solver over `hierarchy` (at least one coarse level); `fine_factor`: whether a
+    /// Cholesky factor of the fine matrix fits the memory budget (see the module
+    /// documentation).
+    pub fn new(hierarchy: Hierarchy, fine_factor: bool) -> Self {
+        let sizes = hierarchy.sizes();
+        let coarsest = *sizes.last().expect("at least one level");
         MultilevelSolver {
             prolongations: hierarchy.prolongations.into(),
             layout: None,
             masses: None,
             cached: None,
             coarsest: Factorizer::new(coarsest),
+            fine: fine_factor.then(|| FineFactor {
+                factorizer: Factorizer::new(sizes[0]),
+                kept: None,
+                preferred: false,
+                factorizations: 0,
+                seconds: 0.0,
+            }),
             cg_iterations: 0,
             cg_seconds: 0.0,
         }
+    }
+
+    /// CG on `ready`'s matrix for −`g`, preconditioned by `precondition`.
+    fn cg(
+        &mut self,
+        ready: &ReadyMultigrid,
+        minus_g: &[f64],
+        precondition: &dyn Fn(&[f64]) -> Vec<f64>,
+        forcing: f64,
+        limit: usize,
+    ) -> crate::fair::solvers::pcg::CgOutcome {
+        let clock = Instant::now();
+        let cg = pcg_operator(
+            &|x: &[f64]| ready.matrix.multiply(x, ready.nu),
+            minus_g,
+            precondition,
+            forcing,
+            limit,
+        );
+        self.cg_iterations += cg.iterations;
+        self.cg_seconds += clock.elapsed().as_secs_f64();
+        cg
+    }
+
+    /// The solve by the kept fine factor as preconditioner, if one is kept and preferred
+    /// and it reaches `forcing` within [`KEPT_FACTOR_ITERATIONS`].
+    fn solve_with_kept_factor(
+        &mut self,
+        ready: &ReadyMultigrid,
+        minus_g: &[f64],
+        forcing: f64,
+    ) -> Option<Vec<f64>> {
+        let fine = self.fine.take()?;
+        let result = match (&fine.kept, fine.preferred) {
+            (Some(factor), true) => {
+                let cg = self.cg(
+                    ready,
+                    minus_g,
+                    &|r: &[f64]| factor.newton_step(r).iter().map(|x| -x).collect(),
+                    forcing,
+                    KEPT_FACTOR_ITERATIONS,
+                );
+                (cg.stop == CgStop::Converged).then_some(cg.x)
+            }
+            _ => None,
+        };
+        self.fine = Some(fine);
+        result
+    }
+
+    /// The exact solve by a fresh factor of `ready`'s matrix, kept for the next solves;
+    /// `None` if it is not positive definite.
+    fn solve_with_fresh_factor(&mut self, ready: &ReadyMultigrid, g: &[f64]) -> Option<Vec<f64>> {
+        let fine = self.fine.as_mut()?;
+        if let Some(old) = fine.kept.take() {
+            fine.factorizer.recycle(old);
+        }
+        let clock = Instant::now();
+        let factor = fine.factorizer.factor(&ready.matrix.to_upper(), ready.nu);
+        fine.seconds += clock.elapsed().as_secs_f64();
+        fine.factorizations += 1;
+        let Ok(factor) = factor else {
+            fine.preferred = false;
+            return None;
+        };
+        let step = factor.newton_step(g);
+        fine.kept = Some(factor);
+        fine.preferred = true;
+        Some(step)
     }
 
     fn levels(&mut self, h: &BlockHessian, key: u64) -> Arc<LevelMatrices> {
@@ -94,19 +203,30 @@ impl StepSolver for MultilevelSolver {
     }
 
     fn solve(&mut self, ready: &ReadyMultigrid, g: &[f64], forcing: f64) -> Option<Vec<f64>> {
-        let clock = Instant::now();
         let minus_g: Vec<f64> = g.iter().map(|x| -x).collect();
-        let cg = pcg_operator(
-            &|x: &[f64]| ready.matrix.multiply(x, ready.nu),
+        if let Some(step) = self.solve_with_kept_factor(ready, &minus_g, forcing) {
+            return Some(step);
+        }
+        let limit = if self.fine.is_some() {
+            V_CYCLE_ITERATIONS_BEFORE_FACTOR
+        } else {
+            MAX_CG_ITERATIONS
+        };
+        let cg = self.cg(
+            ready,
             &minus_g,
             &|r: &[f64]| ready.multigrid.apply(r),
             forcing,
-            MAX_CG_ITERATIONS,
+            limit,
         );
-        self.cg_iterations += cg.iterations;
-        self.cg_seconds += clock.elapsed().as_secs_f64();
         match cg.stop {
-            CgStop::Converged | CgStop::IterationLimit => Some(cg.x),
+            CgStop::Converged => {
+                if let Some(fine) = &mut self.fine {
+                    fine.preferred = false;
+                }
+                Some(cg.x)
+            }
+            CgStop::IterationLimit => self.solve_with_fresh_factor(ready, g).or(Some(cg.x)),
             CgStop::Indefinite => None,
         }
     }
@@ -116,11 +236,18 @@ impl StepSolver for MultilevelSolver {
     fn krylov_work(&self) -> (usize, f64) {
         (self.cg_iterations, self.cg_seconds)
     }
+
+    fn fine_factorizations(&self) -> (usize, f64) {
+        self.fine
+            .as_ref()
+            .map_or((0, 0.0), |f| (f.factorizations, f.seconds))
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fair::functional::evaluation::Hessians;
     use crate::fair::solvers::multilevel::hierarchy::hierarchy;
     use crate::fair::solvers::step_solver::CholeskySolver;
     use crate::fair::{
@@ -128,12 +255,10 @@ mod tests {
         RepresentationOptions, SurfaceKind, SurfaceRepresentation,
     };
 
-    #[test]
-    fn v_cycle_conjugate_gradients_solve_as_the_cholesky_factor() {
-        // The 3743-vertex junction's Hessians at the raw mesh (3167 free vertices; one
-        // coarse level, the 911 internal vertices of the 1007-vertex mesh it refines): the
-        // Gauss–Newton part + ν I as in a Levenberg–Marquardt trial, and a shifted exact
-        // Hessian, solved by CG to 1e-10 and by Cholesky.
+    /// The 3743-vertex junction's Hessians at the raw mesh (3167 free vertices; one coarse
+    /// level, the 911 internal vertices of the 1007-vertex mesh it refines), its levels and
+    /// its free count.
+    fn junction() -> (Hierarchy, Hessians, usize) {
         let mesh = refine_surface(&tubes(3, 8, 2).unwrap(), 1).unwrap();
         let topo = MeshTopology::new(&mesh).unwrap();
         let fixed = fixed_vertices(&topo, 3, &[]).unwrap();
@@ -148,8 +273,24 @@ mod tests {
         let hessians = functional.hessians(&mesh.positions, HessianKind::Both);
         let levels = hierarchy(&mesh, functional.free_index(), functional.free_count());
         assert_eq!(levels.sizes(), vec![3167, 911]);
-        let mut multilevel = MultilevelSolver::new(levels);
-        let mut cholesky = CholeskySolver(Factorizer::new(functional.free_count()));
+        (levels, hessians, functional.free_count())
+    }
+
+    fn distance(a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    }
+
+    #[test]
+    fn v_cycle_conjugate_gradients_solve_as_the_cholesky_factor() {
+        // The junction's Gauss–Newton part + ν I as in a Levenberg–Marquardt trial, and a
+        // shifted exact Hessian, solved by CG to 1e-10 and by Cholesky.
+        let (levels, hessians, free) = junction();
+        let mut multilevel = MultilevelSolver::new(levels, false);
+        let mut cholesky = CholeskySolver(Factorizer::new(free));
         let g = &hessians.gradient;
         let gn = hessians.gauss_newton.as_ref().unwrap();
         let exact = hessians.exact.as_ref().unwrap();
@@ -171,12 +312,7 @@ mod tests {
             let before = multilevel.krylov_work().0;
             let got = multilevel.solve(&ready, g, 1e-10).unwrap();
             let iterations = multilevel.krylov_work().0 - before;
-            let error = got
-                .iter()
-                .zip(&expected)
-                .map(|(a, b)| (a - b).powi(2))
-                .sum::<f64>()
-                .sqrt();
+            let error = distance(&got, &expected);
             let size = expected.iter().map(|x| x * x).sum::<f64>().sqrt();
             assert!(
                 error <= 1e-7 * size,
@@ -185,5 +321,44 @@ mod tests {
             // A V-cycle that did nothing would need hundreds of iterations here.
             assert!(iterations < 60, "ν {nu:e}: {iterations} CG iterations");
         }
+    }
+
+    #[test]
+    fn a_solve_the_v_cycle_does_not_serve_falls_back_to_the_fine_factor() {
+        // A residual of 1e-14 is beyond the 40 iterations the V-cycle is given when the
+        // fine factor fits: the solve is the factor's (the plain method's step), and the
+        // factor is kept: the next solve of the same matrix converges at once with it as
+        // the preconditioner, with no new factor.
+        let (levels, hessians, free) = junction();
+        let mut multilevel = MultilevelSolver::new(levels, true);
+        let mut cholesky = CholeskySolver(Factorizer::new(free));
+        let g = &hessians.gradient;
+        let gn = hessians.gauss_newton.as_ref().unwrap();
+        let nu = 1e-3 * crate::fair::solvers::newton::diagonal_scale(gn);
+        let direct = cholesky.ready(gn, 1, nu).expect("positive definite");
+        let expected = cholesky.solve(&direct, g, 0.0).unwrap();
+        let size = expected.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let ready = multilevel.ready(gn, 1, nu).expect("positive definite");
+        let got = multilevel.solve(&ready, g, 1e-14).unwrap();
+        assert_eq!(multilevel.krylov_work().0, V_CYCLE_ITERATIONS_BEFORE_FACTOR);
+        assert_eq!(multilevel.fine_factorizations().0, 1);
+        assert!(distance(&got, &expected) <= 1e-9 * size);
+        let got = multilevel.solve(&ready, g, 1e-10).unwrap();
+        let iterations = multilevel.krylov_work().0 - V_CYCLE_ITERATIONS_BEFORE_FACTOR;
+        assert!(
+            iterations <= 2,
+            "{iterations} CG iterations with the exact factor"
+        );
+        assert_eq!(multilevel.fine_factorizations().0, 1);
+        assert!(distance(&got, &expected) <= 1e-8 * size);
+        // Without the fine factor the same solve is the V-cycle's, to the same answer,
+        // past the 40 iterations.
+        let (levels, _, _) = junction();
+        let mut alone = MultilevelSolver::new(levels, false);
+        let ready = alone.ready(gn, 1, nu).expect("positive definite");
+        let got = alone.solve(&ready, g, 1e-14).unwrap();
+        assert!(alone.krylov_work().0 > V_CYCLE_ITERATIONS_BEFORE_FACTOR);
+        assert_eq!(alone.fine_factorizations().0, 0);
+        assert!(distance(&got, &expected) <= 1e-9 * size);
     }
 }
