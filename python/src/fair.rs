@@ -6,7 +6,9 @@ use std::ops::ControlFlow;
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use surfkit::fair::{optimize_observed, FairOptions, Iteration, RepresentationOptions};
+use surfkit::fair::{
+    optimize_observed, FairMethod, FairOptions, Iteration, RepresentationOptions,
+};
 
 use crate::errors::{to_py, InvalidInput};
 use crate::mesh::Mesh;
@@ -16,7 +18,7 @@ use crate::mesh::Mesh;
 /// return stops the run (the positions reached are returned, the report says `cancelled`),
 /// an exception stops it and is raised once the run has ended.
 #[pyfunction]
-#[pyo3(signature = (mesh, *, fixed, boundary_rings, max_refinements, relative_gradient, max_iterations, surface, isolation, nodes, c_special, regularization, callback))]
+#[pyo3(signature = (mesh, *, fixed, boundary_rings, max_refinements, relative_gradient, max_iterations, surface, isolation, nodes, c_special, regularization, method, callback))]
 #[allow(clippy::too_many_arguments)]
 // Each argument is a keyword argument of the Python function.
 pub fn fair_json(
@@ -32,6 +34,7 @@ pub fn fair_json(
     nodes: Option<usize>,
     c_special: Option<f64>,
     regularization: Option<f64>,
+    method: Option<String>,
     callback: Option<Py<PyAny>>,
 ) -> PyResult<(Mesh, String)> {
     let input = &mesh.mesh;
@@ -89,6 +92,17 @@ pub fn fair_json(
         }
         options.regularization = c;
     }
+    options.method = match method.as_deref() {
+        None | Some("auto") => FairMethod::Automatic,
+        Some("plain") => FairMethod::Plain,
+        Some("multilevel") => FairMethod::Multilevel,
+        Some(other) => {
+            return Err(InvalidInput::new_err(format!(
+                "method {other:?}: use \"auto\", \"plain\" (a Cholesky factor per step) or \
+                 \"multilevel\" (CG with a multigrid V-cycle, for refined meshes)"
+            )))
+        }
+    };
     if let Some(r) = relative_gradient {
         if !(r > 0.0 && r < 1.0) {
             return Err(InvalidInput::new_err(format!(

@@ -350,12 +350,15 @@ def fair(
     nodes: int | None = None,
     c_special: float | None = None,
     regularization: float | None = None,
+    method: str | None = None,
 ) -> tuple[Mesh, dict[str, Any]]:
     """Kiciak's shape optimization of a control mesh, as ``surfkit fair`` (options left at
     None keep its defaults). ``surface`` is ``"g2"`` (the default: the paper's
     curvature-continuous surface) or ``"catmull-clark"`` (``surfkit fair --surface``);
     ``report["surface"]`` names the one optimized. ``regularization`` is C in
-    F = S + C·c·Q (``surfkit fair --regularization``).
+    F = S + C·c·Q (``surfkit fair --regularization``). ``method`` is ``"auto"`` (the
+    default: by size), ``"plain"`` or ``"multilevel"`` (``surfkit fair --method``);
+    ``report["method"]`` names the one that ran.
 
     Returns the optimized mesh (the input's topology and vertex order unless the method had
     to refine it, see ``report["refinements"]``) and the report, whose ``log`` lists every
@@ -378,6 +381,7 @@ def fair(
         nodes=nodes,
         c_special=c_special,
         regularization=regularization,
+        method=method,
         callback=callback,
     )
     report = json.loads(text)

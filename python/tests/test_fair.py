@@ -97,6 +97,24 @@ def test_the_callback_stops_the_run(tubes: Path):
     assert report["final_terms"]["f"] < report["newton"]["initial"]["f"]
 
 
+def test_the_method_is_chosen_by_keyword(cli: Path, tmp_path: Path):
+    # The junction refined once (3743 vertices, 3167 free; one coarser level): both methods
+    # reach the same minimum, and the report names the one that ran.
+    path = tmp_path / "refined.obj"
+    subprocess.run(
+        [cli, "gen", "tubes", "--size", "8", "--rings", "2", "--refine", "1", "--output", path],
+        check=True,
+        capture_output=True,
+    )
+    mesh = surfkit.read_mesh(path)
+    _, plain = surfkit.fair(mesh, method="plain", max_refinements=0)
+    _, multilevel = surfkit.fair(mesh, method="multilevel", max_refinements=0)
+    assert (plain["method"], multilevel["method"]) == ("plain", "multilevel")
+    assert multilevel["multilevel_sizes"] == [3167, 911]
+    assert plain["newton"]["converged"] and multilevel["newton"]["converged"]
+    assert multilevel["final_terms"]["f"] == pytest.approx(plain["final_terms"]["f"], rel=1e-9)
+
+
 def test_an_exception_in_the_callback_is_raised(tubes: Path):
     def fail(info: dict) -> None:
         raise KeyError("from the callback")
@@ -114,6 +132,11 @@ def test_bad_fair_options_are_refused(tubes: Path):
     for bad in (0.0, -1.0, float("nan")):
         with pytest.raises(surfkit.InvalidInput, match="regularization"):
             surfkit.fair(mesh, regularization=bad)
+    with pytest.raises(surfkit.InvalidInput, match='method "fast": use "auto"'):
+        surfkit.fair(mesh, method="fast")
+    # 359 vertices: no coarser level for the multilevel method.
+    with pytest.raises(surfkit.InvalidInput, match="needs a coarser level"):
+        surfkit.fair(mesh, method="multilevel", max_refinements=0)
     closed = surfkit.read_mesh(Path(__file__).parents[2] / "fixtures/meshes/catmark_torus.obj")
     with pytest.raises(surfkit.SurfkitError):
         surfkit.fair(closed)
