@@ -31,6 +31,22 @@
 #define SURFKIT_SURFACE_CATMULL_CLARK 1
 
 /*
+ `SurfkitFairOptions::method`: by size, as `surfkit fair --method auto` (the default).
+ */
+#define SURFKIT_METHOD_AUTO 0
+
+/*
+ `SurfkitFairOptions::method`: a sparse Cholesky factor of every Newton matrix.
+ */
+#define SURFKIT_METHOD_PLAIN 1
+
+/*
+ `SurfkitFairOptions::method`: conjugate gradients with a multigrid V-cycle over the
+ coarser control meshes (a Catmull–Clark refinement of more than 2000 free vertices).
+ */
+#define SURFKIT_METHOD_MULTILEVEL 2
+
+/*
  Biquadratic C¹ B-splines (2022).
  */
 #define SURFKIT_SPACE_BIQUADRATIC 0
@@ -67,10 +83,11 @@
 
 /*
  The version of the C ABI: bumped whenever a declaration of `surfkit.h` changes
- incompatibly (2: `SurfkitEatOptions.check_fixes` and `SurfkitFlaw.fix_verified`). Compare
- with [`surfkit_abi_version`] at run time.
+ incompatibly (2: `SurfkitEatOptions.check_fixes` and `SurfkitFlaw.fix_verified`; 3:
+ `SurfkitFairOptions.method` and `SurfkitFairSummary.method`). Compare with
+ [`surfkit_abi_version`] at run time.
  */
-#define SURFKIT_ABI_VERSION 2
+#define SURFKIT_ABI_VERSION 3
 
 /*
  Success.
@@ -346,6 +363,11 @@ typedef struct SurfkitFairOptions {
    */
   double regularization;
   /*
+   How Newton's steps are solved: [`SURFKIT_METHOD_AUTO`], [`SURFKIT_METHOD_PLAIN`] or
+   [`SURFKIT_METHOD_MULTILEVEL`].
+   */
+  int method;
+  /*
    `fixed_count` more fixed vertices (ids of the input mesh).
    */
   const uint32_t *fixed;
@@ -362,6 +384,10 @@ typedef struct SurfkitFairSummary {
    The surface optimized ([`SURFKIT_SURFACE_G2`] or [`SURFKIT_SURFACE_CATMULL_CLARK`]).
    */
   int surface;
+  /*
+   The method that ran ([`SURFKIT_METHOD_PLAIN`] or [`SURFKIT_METHOD_MULTILEVEL`]).
+   */
+  int method;
   int converged;
   int cancelled;
   /*

@@ -6,7 +6,9 @@
 use std::ffi::{c_char, c_int, c_void, CString};
 use std::ops::ControlFlow;
 
-use surfkit::fair::{optimize_observed, FairOptions, FairReport, Iteration, StepKind, SurfaceKind};
+use surfkit::fair::{
+    optimize_observed, FairMethod, FairOptions, FairReport, Iteration, StepKind, SurfaceKind,
+};
 
 use crate::mesh::SurfkitMesh;
 use crate::pointers::{give, output, reference, slice, take};
@@ -40,6 +42,14 @@ pub const SURFKIT_SURFACE_G2: c_int = 0;
 /// `SurfkitFairOptions::surface`: the Catmull–Clark limit surface.
 pub const SURFKIT_SURFACE_CATMULL_CLARK: c_int = 1;
 
+/// `SurfkitFairOptions::method`: by size, as `surfkit fair --method auto` (the default).
+pub const SURFKIT_METHOD_AUTO: c_int = 0;
+/// `SurfkitFairOptions::method`: a sparse Cholesky factor of every Newton matrix.
+pub const SURFKIT_METHOD_PLAIN: c_int = 1;
+/// `SurfkitFairOptions::method`: conjugate gradients with a multigrid V-cycle over the
+/// coarser control meshes (a Catmull–Clark refinement of more than 2000 free vertices).
+pub const SURFKIT_METHOD_MULTILEVEL: c_int = 2;
+
 /// Options of [`surfkit_fair`]; start from [`surfkit_fair_options_default`] (the defaults
 /// of `surfkit fair`).
 #[repr(C)]
@@ -64,6 +74,9 @@ pub struct SurfkitFairOptions {
     pub c_special: f64,
     /// C in F = S + C·c·Q (1: the paper's text; the author's program: 0.01).
     pub regularization: f64,
+    /// How Newton's steps are solved: [`SURFKIT_METHOD_AUTO`], [`SURFKIT_METHOD_PLAIN`] or
+    /// [`SURFKIT_METHOD_MULTILEVEL`].
+    pub method: c_int,
     /// `fixed_count` more fixed vertices (ids of the input mesh).
     pub fixed: *const u32,
     pub fixed_count: usize,
@@ -89,6 +102,7 @@ pub unsafe extern "C" fn surfkit_fair_options_default(options: *mut SurfkitFairO
             nodes: d.representation.nodes as u32,
             c_special: d.representation.c_special,
             regularization: d.regularization,
+            method: SURFKIT_METHOD_AUTO,
             fixed: std::ptr::null(),
             fixed_count: 0,
             callback: None,
@@ -104,6 +118,8 @@ pub unsafe extern "C" fn surfkit_fair_options_default(options: *mut SurfkitFairO
 pub struct SurfkitFairSummary {
     /// The surface optimized ([`SURFKIT_SURFACE_G2`] or [`SURFKIT_SURFACE_CATMULL_CLARK`]).
     pub surface: c_int,
+    /// The method that ran ([`SURFKIT_METHOD_PLAIN`] or [`SURFKIT_METHOD_MULTILEVEL`]).
+    pub method: c_int,
     pub converged: c_int,
     pub cancelled: c_int,
     /// Stopped where no step decreases F, or at the gradient's round-off floor.
@@ -165,6 +181,17 @@ unsafe fn fair_options(o: &SurfkitFairOptions) -> Result<FairOptions, Failure> {
         other => {
             return Err(Failure::invalid(format!(
                 "surface {other}: use SURFKIT_SURFACE_G2 (0) or SURFKIT_SURFACE_CATMULL_CLARK (1)"
+            )))
+        }
+    };
+    options.method = match o.method {
+        SURFKIT_METHOD_AUTO => FairMethod::Automatic,
+        SURFKIT_METHOD_PLAIN => FairMethod::Plain,
+        SURFKIT_METHOD_MULTILEVEL => FairMethod::Multilevel,
+        other => {
+            return Err(Failure::invalid(format!(
+                "method {other}: use SURFKIT_METHOD_AUTO (0), SURFKIT_METHOD_PLAIN (1) or \
+                 SURFKIT_METHOD_MULTILEVEL (2)"
             )))
         }
     };
@@ -262,6 +289,10 @@ pub unsafe extern "C" fn surfkit_fair_report_summary(
             surface: match r.surface {
                 SurfaceKind::G2 => SURFKIT_SURFACE_G2,
                 SurfaceKind::CatmullClark => SURFKIT_SURFACE_CATMULL_CLARK,
+            },
+            method: match r.method {
+                FairMethod::Multilevel => SURFKIT_METHOD_MULTILEVEL,
+                FairMethod::Plain | FairMethod::Automatic => SURFKIT_METHOD_PLAIN,
             },
             converged: n.converged as c_int,
             cancelled: (n.cancelled || r.warm_start.as_ref().is_some_and(|w| w.cancelled)) as c_int,

@@ -547,6 +547,9 @@ struct FairOptions {
   double c_special = 0;
   /// C in F = S + C·c·Q (1: the paper's text; the author's program: 0.01).
   double regularization = 0;
+  /// SURFKIT_METHOD_AUTO (by size, the default), SURFKIT_METHOD_PLAIN or
+  /// SURFKIT_METHOD_MULTILEVEL (`surfkit fair --method`).
+  int method = SURFKIT_METHOD_AUTO;
   /// More fixed vertices; also fixed: locked vertices (mesh.status(vh).locked()) and those
   /// whose bool vertex property named `fixed_property` is true.
   std::vector<OpenMesh::VertexHandle> fixed;
@@ -563,6 +566,8 @@ struct FairReport {
   double gradient_norm_before = 0, gradient_norm_after = 0;
   /// The surface optimized (SURFKIT_SURFACE_G2 or SURFKIT_SURFACE_CATMULL_CLARK).
   int surface = SURFKIT_SURFACE_G2;
+  /// The method that ran (SURFKIT_METHOD_PLAIN or SURFKIT_METHOD_MULTILEVEL).
+  int method = SURFKIT_METHOD_PLAIN;
   std::string json;
 };
 
@@ -622,6 +627,7 @@ FairReport fair(Mesh& mesh, const FairOptions& options = FairOptions{}) {
   if (options.nodes != 0) o.nodes = options.nodes;
   if (options.c_special != 0) o.c_special = options.c_special;
   if (options.regularization != 0) o.regularization = options.regularization;
+  o.method = options.method;
   o.fixed = fixed.data();
   o.fixed_count = fixed.size();
   detail::ProgressBridge bridge{&options.progress, nullptr};
@@ -660,6 +666,7 @@ FairReport fair(Mesh& mesh, const FairOptions& options = FairOptions{}) {
   r.gradient_norm_before = s.gradient_norm_before;
   r.gradient_norm_after = s.gradient_norm_after;
   r.surface = s.surface;
+  r.method = s.method;
   const char* json = nullptr;
   detail::check(surfkit_fair_report_json(raw.get(), &json));
   r.json = json;

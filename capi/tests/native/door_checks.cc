@@ -238,6 +238,30 @@ static void cycles() {
   SurfkitFairOptions defaults;
   surfkit_fair_options_default(&defaults);
   EXPECT(defaults.surface == SURFKIT_SURFACE_G2);
+  // The method option: by size by default (the plain method on this plate, which says
+  // so); the multilevel method needs a coarser level, which the plate is not a refinement
+  // of; an unknown method is refused with a message.
+  EXPECT(defaults.method == SURFKIT_METHOD_AUTO);
+  {
+    SurfkitMesh* out = nullptr;
+    SurfkitFairReport* report = nullptr;
+    EXPECT(options.method == SURFKIT_METHOD_AUTO);
+    EXPECT(surfkit_fair(soup.get(), &options, &out, &report) == SURFKIT_OK);
+    SurfkitFairSummary summary;
+    EXPECT(surfkit_fair_report_summary(report, &summary) == SURFKIT_OK &&
+           summary.method == SURFKIT_METHOD_PLAIN);
+    surfkit_fair_report_free(report);
+    surfkit_mesh_free(out);
+    SurfkitFairOptions multilevel = options;
+    multilevel.method = SURFKIT_METHOD_MULTILEVEL;
+    multilevel.max_refinements = 0;
+    SurfkitMesh* none = nullptr;
+    EXPECT(surfkit_fair(soup.get(), &multilevel, &none, nullptr) == SURFKIT_INVALID_INPUT &&
+           std::strstr(surfkit_last_error(), "needs a coarser level") != nullptr && none == nullptr);
+    multilevel.method = 9;
+    EXPECT(surfkit_fair(soup.get(), &multilevel, &none, nullptr) == SURFKIT_INVALID_INPUT &&
+           std::strstr(surfkit_last_error(), "method 9") != nullptr && none == nullptr);
+  }
   options.surface = 7;
   SurfkitMesh* refused = nullptr;
   EXPECT(surfkit_fair(soup.get(), &options, &refused, nullptr) == SURFKIT_INVALID_INPUT &&
