@@ -57,7 +57,7 @@ class Run:
         ratio = self.report["final_gradient_norm"] / newton["initial_gradient_norm"]
         return (
             f"{self.wall:9.1f}  {self.peak_gb:5.2f}  {newton['hessian_evaluations']:3}"
-            f"  {newton['cg_iterations']:5}  {newton.get('fine_factorizations', 0):3}  {ratio:.1e}"
+            f"  {newton['cg_iterations']:5}  {newton['fine_factorizations']:3}  {ratio:.1e}"
         )
 
 

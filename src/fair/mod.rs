@@ -146,10 +146,12 @@ pub enum FairMethod {
 }
 
 /// The size from which [`FairMethod::Automatic`] takes the multilevel method, by
-/// `benches/fair_ceiling.py` (G² surface, 2026-11-26): at 54 143 free vertices it took
-/// 157.6 s against the plain method's 464.8 s; below, the two are close and the plain
-/// method wins on the five-tube junction (22 077 free: 188.1 s against 221.6 s; three
-/// tubes, 13 247 free: 45.5 s against 38.0 s).
+/// `benches/fair_ceiling.py` (G² surface, 2026-11-26, before the fine-factor fallback): at
+/// 54 143 free vertices it took 157.6 s against the plain method's 464.8 s; below, the two
+/// were close (three tubes, 13 247 free: 38.0 s against 45.5 s) and the plain method won
+/// on the five-tube junction (22 077 free: 188.1 s against 221.6 s). With the fallback
+/// the two are level there (149.6 s against 157.3 s, single runs of a later session); the
+/// threshold has not been re-measured since.
 pub const MULTILEVEL_FREE_VERTICES: usize = 30_000;
 
 /// Peak resident memory of a method: `base` + `per_free_vertex` · free vertices, the

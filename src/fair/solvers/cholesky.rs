@@ -175,7 +175,17 @@ fn failed(what: &str, e: &dyn std::fmt::Debug) -> Error {
 impl Factor {
     /// Solves `(H + ν I) δ = −g` (eq. 7 and 9).
     pub fn newton_step(&self, g: &[f64]) -> Vec<f64> {
-        let mut rhs = Mat::from_fn(g.len(), 1, |i, _| -g[i]);
+        self.solve_scaled(g, -1.0)
+    }
+
+    /// `(H + ν I)⁻¹ b`: the factor as a preconditioner or a block solve.
+    pub fn solve(&self, b: &[f64]) -> Vec<f64> {
+        self.solve_scaled(b, 1.0)
+    }
+
+    /// `(H + ν I)⁻¹ (sign · b)`.
+    fn solve_scaled(&self, b: &[f64], sign: f64) -> Vec<f64> {
+        let mut rhs = Mat::from_fn(b.len(), 1, |i, _| sign * b[i]);
         let par = faer::get_global_parallelism();
         let mut scratch = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, par));
         LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
@@ -184,7 +194,7 @@ impl Factor {
             par,
             MemStack::new(&mut scratch),
         );
-        (0..g.len()).map(|i| rhs[(i, 0)]).collect()
+        (0..b.len()).map(|i| rhs[(i, 0)]).collect()
     }
 }
 

@@ -114,13 +114,12 @@ impl Schwarz {
             .par_iter()
             .filter_map(|part| {
                 let factor = part.factor.as_ref()?;
-                // newton_step(g) = −A⁻¹ g, so A⁻¹ r_b = newton_step(−r_b).
-                let minus: Vec<f64> = part
+                let block: Vec<f64> = part
                     .vertices
                     .iter()
-                    .flat_map(|&i| (0..3).map(move |a| -r[3 * i as usize + a]))
+                    .flat_map(|&i| (0..3).map(move |a| r[3 * i as usize + a]))
                     .collect();
-                Some((part.vertices.as_slice(), factor.newton_step(&minus)))
+                Some((part.vertices.as_slice(), factor.solve(&block)))
             })
             .collect();
         let mut z = vec![0.0; r.len()];

@@ -156,9 +156,7 @@ impl Multigrid {
 
     fn cycle(&self, l: usize, b: &[f64]) -> Vec<f64> {
         let Some(level) = self.levels.get(l) else {
-            let mut x = self.coarsest.newton_step(b);
-            x.iter_mut().for_each(|v| *v = -*v);
-            return x;
+            return self.coarsest.solve(b);
         };
         let mut x = vec![0.0; b.len()];
         level.smooth(b, &mut x, true);

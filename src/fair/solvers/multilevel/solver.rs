@@ -6,8 +6,8 @@
 //! five-tube junctions: a smooth normal displacement of the whole junction), and no
 //! coarse level holds such a mode to the accuracy its tiny eigenvalue needs: CG with the
 //! V-cycle stagnates (the 23 997-vertex junction at its minimum: 264 iterations to a
-//! residual of 10⁻¹, where the three-tube one needs 25; a two-level cycle with an exact
-//! coarse solve no better). Where the memory budget holds the plain method's factor,
+//! residual of 10⁻¹, where the 14 399-vertex three-tube one needs 25; a two-level cycle
+//! with an exact coarse solve no better). Where the memory budget holds the plain method's factor,
 //! such a solve falls back to a Cholesky factor of the fine matrix, kept as the
 //! preconditioner of the next solves while it serves (the Newton tail's Hessians change
 //! little), the factor §5 reuses.
@@ -20,7 +20,7 @@ use super::hierarchy::Hierarchy;
 use super::multigrid::{LevelMatrices, Masses, Multigrid};
 use crate::fair::functional::evaluation::BlockHessian;
 use crate::fair::solvers::cholesky::{Factor, Factorizer};
-use crate::fair::solvers::pcg::{pcg_operator, CgStop};
+use crate::fair::solvers::pcg::{pcg_operator, CgOutcome, CgStop};
 use crate::fair::solvers::step_solver::StepSolver;
 
 /// Most CG iterations per step: a V-cycle-preconditioned solve that needs more has met a
@@ -46,6 +46,37 @@ struct FineFactor {
     seconds: f64,
 }
 
+/// CG iterations and their seconds so far.
+#[derive(Default)]
+struct KrylovWork {
+    iterations: usize,
+    seconds: f64,
+}
+
+impl KrylovWork {
+    /// CG on `ready`'s matrix for −`g`, preconditioned by `precondition`, counted here.
+    fn cg(
+        &mut self,
+        ready: &ReadyMultigrid,
+        minus_g: &[f64],
+        precondition: &dyn Fn(&[f64]) -> Vec<f64>,
+        forcing: f64,
+        limit: usize,
+    ) -> CgOutcome {
+        let clock = Instant::now();
+        let cg = pcg_operator(
+            &|x: &[f64]| ready.matrix.multiply(x, ready.nu),
+            minus_g,
+            precondition,
+            forcing,
+            limit,
+        );
+        self.iterations += cg.iterations;
+        self.seconds += clock.elapsed().as_secs_f64();
+        cg
+    }
+}
+
 /// H + νI with its V-cycle.
 pub struct ReadyMultigrid {
     matrix: Arc<BlockCsr>,
@@ -64,8 +95,7 @@ pub struct MultilevelSolver {
     coarsest: Factorizer,
     /// `None` when the fine factor does not fit the memory budget.
     fine: Option<FineFactor>,
-    cg_iterations: usize,
-    cg_seconds: f64,
+    krylov: KrylovWork,
 }
 
 impl MultilevelSolver {
@@ -88,31 +118,8 @@ impl MultilevelSolver {
                 factorizations: 0,
                 seconds: 0.0,
             }),
-            cg_iterations: 0,
-            cg_seconds: 0.0,
+            krylov: KrylovWork::default(),
         }
-    }
-
-    /// CG on `ready`'s matrix for −`g`, preconditioned by `precondition`.
-    fn cg(
-        &mut self,
-        ready: &ReadyMultigrid,
-        minus_g: &[f64],
-        precondition: &dyn Fn(&[f64]) -> Vec<f64>,
-        forcing: f64,
-        limit: usize,
-    ) -> crate::fair::solvers::pcg::CgOutcome {
-        let clock = Instant::now();
-        let cg = pcg_operator(
-            &|x: &[f64]| ready.matrix.multiply(x, ready.nu),
-            minus_g,
-            precondition,
-            forcing,
-            limit,
-        );
-        self.cg_iterations += cg.iterations;
-        self.cg_seconds += clock.elapsed().as_secs_f64();
-        cg
     }
 
     /// The solve by the kept fine factor as preconditioner, if one is kept and preferred
@@ -123,22 +130,16 @@ impl MultilevelSolver {
         minus_g: &[f64],
         forcing: f64,
     ) -> Option<Vec<f64>> {
-        let fine = self.fine.take()?;
-        let result = match (&fine.kept, fine.preferred) {
-            (Some(factor), true) => {
-                let cg = self.cg(
-                    ready,
-                    minus_g,
-                    &|r: &[f64]| factor.newton_step(r).iter().map(|x| -x).collect(),
-                    forcing,
-                    KEPT_FACTOR_ITERATIONS,
-                );
-                (cg.stop == CgStop::Converged).then_some(cg.x)
-            }
-            _ => None,
-        };
-        self.fine = Some(fine);
-        result
+        let fine = self.fine.as_ref().filter(|f| f.preferred)?;
+        let factor = fine.kept.as_ref()?;
+        let cg = self.krylov.cg(
+            ready,
+            minus_g,
+            &|r: &[f64]| factor.solve(r),
+            forcing,
+            KEPT_FACTOR_ITERATIONS,
+        );
+        (cg.stop == CgStop::Converged).then_some(cg.x)
     }
 
     /// The exact solve by a fresh factor of `ready`'s matrix, kept for the next solves;
@@ -212,7 +213,7 @@ impl StepSolver for MultilevelSolver {
         } else {
             MAX_CG_ITERATIONS
         };
-        let cg = self.cg(
+        let cg = self.krylov.cg(
             ready,
             &minus_g,
             &|r: &[f64]| ready.multigrid.apply(r),
@@ -234,7 +235,7 @@ impl StepSolver for MultilevelSolver {
     fn recycle(&mut self, _ready: ReadyMultigrid) {}
 
     fn krylov_work(&self) -> (usize, f64) {
-        (self.cg_iterations, self.cg_seconds)
+        (self.krylov.iterations, self.krylov.seconds)
     }
 
     fn fine_factorizations(&self) -> (usize, f64) {
