@@ -58,6 +58,18 @@ fn same_minimum(surface: SurfaceKind) {
     assert!(report.multilevel_sizes.len() >= 2);
     assert!(plain_report.newton.converged && report.newton.converged);
     assert!(report.newton.cg_iterations > 0 && plain_report.newton.cg_iterations == 0);
+    // The multilevel method started from the refined optimum of the mesh it un-subdivides
+    // to (the 3743-vertex one less the ring refinement dropped; two rings held), below
+    // the input's F; the plain one from the input.
+    assert!(plain_report.coarse_start.is_none());
+    let stage = report.coarse_start.as_ref().expect("a coarse stage");
+    assert_eq!(stage.report.vertices, 3551);
+    assert!(stage.used && stage.start_f < report.initial_terms.f);
+    assert_eq!(report.newton.initial.f, stage.start_f);
+    // Both stop at the tolerance relative to the input's gradient.
+    for r in [&plain_report, &report] {
+        assert!(r.final_gradient_norm <= 1e-8 * r.initial_gradient_norm);
+    }
     let (f_plain, f) = (plain_report.final_terms.f, report.final_terms.f);
     assert!((f - f_plain).abs() <= 1e-9 * f_plain, "F {f} vs {f_plain}");
     let worst = plain

@@ -284,7 +284,7 @@ pub unsafe extern "C" fn surfkit_fair_report_summary(
     guard(|| {
         let r = &reference(report, "report")?.report;
         let n = &r.newton;
-        let before = r.warm_start.as_ref().map_or(n.initial, |w| w.initial);
+        let before = r.initial_terms;
         *output(out, "out")? = SurfkitFairSummary {
             surface: match r.surface {
                 SurfaceKind::G2 => SURFKIT_SURFACE_G2,

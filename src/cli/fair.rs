@@ -14,10 +14,10 @@ use crate::error::Error;
 use super::html_pages::{fair_log_plot, fair_summary};
 use crate::fair::{
     optimize_levels_observed, read_fixed, refine_surface, shape_change, surface_samples, tubes,
-    write_bezier_patches, BlockOptions, EndCaps, FairMethod, FairOptions, FairReport, G2Surface,
-    Iteration, LevelReport, LmMatrix, MeshTopology, NewtonOptions, QDomain, RepresentationOptions,
-    ShapeChange, StepKind, SurfaceKind, DEFAULT_C_SPECIAL, DEFAULT_C_SPECIAL_G2,
-    DEFAULT_HESSIAN_NODES, DEFAULT_REGULARIZATION,
+    write_bezier_patches, BlockOptions, CoarseStart, CoarseStartReport, EndCaps, FairMethod,
+    FairOptions, FairReport, G2Surface, Iteration, LevelReport, LmMatrix, MeshTopology,
+    NewtonOptions, QDomain, RepresentationOptions, ShapeChange, StepKind, SurfaceKind,
+    DEFAULT_C_SPECIAL, DEFAULT_C_SPECIAL_G2, DEFAULT_HESSIAN_NODES, DEFAULT_REGULARIZATION,
 };
 use crate::limits::MemoryBudget;
 use crate::mesh::io::{read, write, WriteOptions};
@@ -130,6 +130,10 @@ pub struct FairArgs {
     /// meshes the input was refined from), `auto` (multilevel for large refined meshes).
     #[arg(long, value_enum, default_value_t = MethodArg::Auto)]
     pub method: MethodArg,
+    /// Start the multilevel method from the raw mesh instead of from the refined optimum of
+    /// the mesh it un-subdivides to (nested iteration, the default).
+    #[arg(long)]
+    pub no_coarse_start: bool,
     /// Use the block method of the paper's §5 with this many blocks (for large meshes:
     /// block Newton iterations, then global Newton steps by Schwarz-preconditioned CG).
     #[arg(long)]
@@ -353,6 +357,11 @@ fn options(args: &FairArgs, memory: MemoryBudget) -> FairOptions {
             MethodArg::Plain => FairMethod::Plain,
             MethodArg::Multilevel => FairMethod::Multilevel,
         },
+        coarse_start: if args.no_coarse_start {
+            CoarseStart::Never
+        } else {
+            CoarseStart::Multilevel
+        },
         ..FairOptions::default()
     };
     options.newton.relative_gradient = args.tolerance;
@@ -424,6 +433,38 @@ pub(super) fn optimize_with_progress(
         change,
         seconds,
     })
+}
+
+/// The coarse stage of the multilevel method, in one line (its own coarse stages nested).
+fn coarse_start_line(stage: &CoarseStartReport) -> String {
+    let r = &stage.report;
+    let mut line = format!(
+        "coarse start: {} vertices ({} free, {} method), F {:.6e} → {:.6e}, {} Hessians, \
+         {:.1} s{}; refined: F {:.6e}, |g| {:.3e}{}",
+        r.vertices,
+        r.free_vertices,
+        if r.method == FairMethod::Multilevel {
+            "multilevel"
+        } else {
+            "plain"
+        },
+        r.initial_terms.f,
+        r.final_terms.f,
+        r.newton.hessian_evaluations,
+        stage.seconds,
+        r.newton.status_note(),
+        stage.start_f,
+        stage.start_gradient_norm,
+        if stage.used {
+            ""
+        } else {
+            " (not below the input's F: not used)"
+        }
+    );
+    if let Some(inner) = &r.coarse_start {
+        line.push_str(&format!("\n    {}", coarse_start_line(inner)));
+    }
+    line
 }
 
 /// Exit status 3 (as `eat`'s failed test) when the run stopped short: not converged and
@@ -500,7 +541,7 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
                 level.level,
                 r.vertices,
                 r.free_vertices,
-                r.newton.initial.f,
+                r.initial_terms.f,
                 r.final_terms.f,
                 r.newton.hessian_evaluations,
                 level.seconds,
@@ -522,9 +563,9 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
             change.s_before / change.s_after,
             change.std_h_before,
             change.std_h_after,
-            n.initial.f,
+            report.initial_terms.f,
             report.final_terms.f,
-            n.initial_gradient_norm,
+            report.initial_gradient_norm,
             report.final_gradient_norm,
             n.iterations.len(),
             n.hessian_evaluations,
@@ -544,6 +585,9 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
                 n.fine_factorization_seconds,
                 n.hessian_seconds
             );
+        }
+        if let Some(stage) = &report.coarse_start {
+            println!("  {}", coarse_start_line(stage));
         }
         if let Some(b) = &report.blocks {
             println!(
@@ -587,7 +631,7 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
         "surfkit fair: not converged{}: |g|/|g0| = {:.3e} after {} iterations, above \
          --tolerance {:.1e}; {} holds the positions reached",
         n.status_note(),
-        report.final_gradient_norm / n.initial_gradient_norm,
+        report.final_gradient_norm / report.initial_gradient_norm,
         n.iterations.len(),
         args.tolerance,
         args.output.display()

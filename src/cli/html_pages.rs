@@ -34,7 +34,10 @@ pub(super) fn fair_summary(
         ),
         (
             "F = S + C·c·Q".into(),
-            format!("{:.6e} → {:.6e}", n.initial.f, report.final_terms.f),
+            format!(
+                "{:.6e} → {:.6e}",
+                report.initial_terms.f, report.final_terms.f
+            ),
         ),
         (
             "C, c".into(),
@@ -44,7 +47,7 @@ pub(super) fn fair_summary(
             "|g|/|g₀|".into(),
             format!(
                 "{:.3e}",
-                report.final_gradient_norm / n.initial_gradient_norm
+                report.final_gradient_norm / report.initial_gradient_norm
             ),
         ),
         (
@@ -60,19 +63,17 @@ pub(super) fn fair_summary(
     ]
 }
 
-/// The optimization log: |g|/|g₀| and F/F₀ per iteration (iteration 0 the start).
+/// The optimization log: |g|/|g₀| and F/F₀ per iteration (iteration 0 the start), g₀ and
+/// F₀ the input's (the multilevel method's coarse start lowers them before iteration 0).
 pub(super) fn fair_log_plot(report: &FairReport) -> Plot {
     let n = &report.newton;
+    let (g0, f0) = (report.initial_gradient_norm, report.initial_terms.f);
     let x: Vec<f64> = (0..=n.iterations.len()).map(|i| i as f64).collect();
-    let gradient = std::iter::once(1.0)
-        .chain(
-            n.iterations
-                .iter()
-                .map(|it| it.gradient_norm / n.initial_gradient_norm),
-        )
+    let gradient = std::iter::once(n.initial_gradient_norm / g0)
+        .chain(n.iterations.iter().map(|it| it.gradient_norm / g0))
         .collect();
-    let f = std::iter::once(1.0)
-        .chain(n.iterations.iter().map(|it| it.terms.f / n.initial.f))
+    let f = std::iter::once(n.initial.f / f0)
+        .chain(n.iterations.iter().map(|it| it.terms.f / f0))
         .collect();
     Plot {
         title: "optimization log".into(),

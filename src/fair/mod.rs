@@ -79,6 +79,8 @@ use crate::error::{Error, Result};
 use crate::limits::{human_bytes, MemoryBudget};
 use crate::linalg::norm;
 use crate::mesh::PolygonMesh;
+use solvers::multilevel::coarse_start::nested_start;
+pub use solvers::multilevel::coarse_start::{CoarseStartReport, COARSE_TOLERANCE};
 use solvers::multilevel::hierarchy::{hierarchy, Hierarchy, COARSEST_VERTICES};
 use solvers::multilevel::solver::MultilevelSolver;
 use solvers::newton::newton_with_solver;
@@ -128,6 +130,24 @@ pub struct FairOptions {
     pub hessian_nodes: Option<usize>,
     /// How Newton's steps are solved (plain or multilevel; by size when automatic).
     pub method: FairMethod,
+    /// Which solves start from the optimum of the un-subdivided mesh, refined (nested
+    /// iteration, `solvers::multilevel::coarse_start`). Never with user-given fixed
+    /// vertices (their ids name fine vertices) or a warm start.
+    pub coarse_start: CoarseStart,
+}
+
+/// When [`optimize`] starts from the refined optimum of the mesh its input un-subdivides to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum CoarseStart {
+    /// From the input.
+    Never,
+    /// The multilevel method does (the default); the plain method starts from the input,
+    /// as the paper's.
+    #[default]
+    Multilevel,
+    /// Both methods do: the coarse stages of a multilevel run, which are solved by the
+    /// plain method when small.
+    Always,
 }
 
 /// How [`optimize`] solves Newton's steps.
@@ -212,6 +232,7 @@ impl Default for FairOptions {
             regularization: DEFAULT_REGULARIZATION,
             hessian_nodes: Some(DEFAULT_HESSIAN_NODES),
             method: FairMethod::Automatic,
+            coarse_start: CoarseStart::Multilevel,
         }
     }
 }
@@ -236,7 +257,8 @@ pub struct FairReport {
     pub c: f64,
     /// C: Q's weight in F is C·c ([`FairOptions::regularization`]).
     pub regularization: f64,
-    /// ‖∇F̃‖ at the input (full isolation level).
+    /// F, S, Q and ‖∇F̃‖ at the input (full isolation level).
+    pub initial_terms: Terms,
     pub initial_gradient_norm: f64,
     /// The warm-start stage, if any.
     pub warm_start: Option<NewtonReport>,
@@ -249,6 +271,8 @@ pub struct FairReport {
     pub method: FairMethod,
     /// The multilevel method's unknown vertices per level, finest first (empty for plain).
     pub multilevel_sizes: Vec<usize>,
+    /// The multilevel method's coarse stage (nested iteration), when it ran.
+    pub coarse_start: Option<CoarseStartReport>,
     pub final_terms: Terms,
     pub final_gradient_norm: f64,
     /// S and the spread of H at the prepared input and at the optimum, on the optimizer's
@@ -384,6 +408,7 @@ pub fn optimize_observed(
         None => (initial_terms, norm(&initial_gradient)),
     };
     let mut multilevel_sizes = Vec::new();
+    let mut coarse_stage = None;
     let (report, blocks) = match &options.blocks {
         _ if warm_start.as_ref().is_some_and(|w| w.cancelled) => (
             NewtonReport {
@@ -414,14 +439,43 @@ pub fn optimize_observed(
                 levels.is_some(),
                 options.representation.memory,
             )?;
+            let nested = match options.coarse_start {
+                CoarseStart::Never => false,
+                CoarseStart::Multilevel => levels.is_some(),
+                CoarseStart::Always => true,
+            } && options.fixed.is_empty()
+                && warm_start.is_none()
+                && functional.free_count() > COARSEST_VERTICES;
+            let mut newton_options = options.newton.clone();
+            if nested {
+                coarse_stage = nested_start(
+                    &prepared,
+                    &fixed,
+                    &functional,
+                    options,
+                    &mut positions,
+                    &mut newton_options,
+                    &mut *observe,
+                )?;
+            }
             let report = match levels {
+                _ if coarse_stage
+                    .as_ref()
+                    .is_some_and(|s| s.report.newton.cancelled) =>
+                {
+                    NewtonReport {
+                        converged: false,
+                        cancelled: true,
+                        ..NewtonReport::new(start_terms, g0)
+                    }
+                }
                 Some(levels) => {
                     multilevel_sizes = levels.sizes();
                     newton_with_solver(
                         &functional,
                         curvature,
                         &mut positions,
-                        &options.newton,
+                        &newton_options,
                         MultilevelSolver::new(
                             levels,
                             MULTILEVEL_WITH_FACTOR_MEMORY.bytes(functional.free_count())
@@ -434,7 +488,7 @@ pub fn optimize_observed(
                     &functional,
                     curvature,
                     &mut positions,
-                    &options.newton,
+                    &newton_options,
                     &mut |it| observe(it, g0),
                 )?,
             };
@@ -473,6 +527,7 @@ pub fn optimize_observed(
             elements: rep.element_count(),
             c,
             regularization: options.regularization,
+            initial_terms,
             initial_gradient_norm: norm(&initial_gradient),
             warm_start,
             newton: report,
@@ -483,6 +538,7 @@ pub fn optimize_observed(
                 FairMethod::Multilevel
             },
             multilevel_sizes,
+            coarse_start: coarse_stage,
             final_terms,
             final_gradient_norm: norm(&g),
             change,

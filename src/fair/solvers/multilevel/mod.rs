@@ -4,6 +4,7 @@
 //! un-subdivision) with Catmull–Clark refinement as the prolongation.
 
 pub(crate) mod block_csr;
+pub(crate) mod coarse_start;
 pub(crate) mod hierarchy;
 pub(crate) mod multigrid;
 pub(crate) mod solver;
