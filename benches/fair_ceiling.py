@@ -1,8 +1,10 @@
 """Plain Newton against the multilevel method on large tube junctions (issue 18): `surfkit
 fair` from the raw refined junction, one process per size and method, with its wall time,
-peak RSS (from wait4), Hessians, conjugate-gradient iterations, the fine Cholesky factors
-("LLt") the multilevel method fell back to where its V-cycle stagnated, and the gradient
-reduction reached, the two methods side by side, then the issue's goals.
+peak RSS (from wait4), Hessians (the fine level's + the coarse stage's the multilevel
+method starts from), conjugate-gradient iterations, the fine Cholesky factors ("LLt") the
+multilevel method fell back to where its V-cycle stagnated, the gradient reduction reached
+(against the input's gradient) and F there (the five-tube junctions have several local
+minima), the two methods side by side, then the issue's goals.
 
     .venv/bin/python benches/fair_ceiling.py [SIZE ...] [--surface g2|catmull-clark]
         [--methods plain,multilevel] [--timeout SECONDS] [--plain-timeout SECONDS]
@@ -60,6 +62,7 @@ class Run:
         return (
             f"{self.wall:9.1f}  {self.peak_gb:5.2f}  {hessians:>6}"
             f"  {newton['cg_iterations']:5}  {newton['fine_factorizations']:3}  {ratio:.1e}"
+            f"  {self.report['final_terms']['f']:10.4f}"
         )
 
 
@@ -111,7 +114,7 @@ def main() -> None:
         f"junctions, {os.cpu_count()} cores, tolerance 1e-8, timeout {args.timeout:.0f} s "
         f"(plain: {timeouts['plain']:.0f} s)"
     )
-    header = "    wall s  peak GB  H+coarse  CG  LLt  |g|/|g0|"
+    header = "    wall s  peak GB  H+coarse  CG  LLt  |g|/|g0|  F reached"
     print("size   vertices   free  " + "  ".join(f"{m:>10}:{header}" for m in methods))
     results: dict[str, dict[str, Run]] = {}
     vertices: dict[str, int] = {}
