@@ -1,6 +1,7 @@
 //! The multilevel method (issue 18): on the 14399-vertex three-tube junction it reaches
 //! the plain method's minimum on both surfaces `fair` offers (the Done-when's "F to 1e-9
-//! relative, positions to 1e-6 of the bounding box"); the automatic choice takes the plain
+//! relative, positions to 1e-6 of the bounding box"), from the input and from the coarse
+//! start (nested iteration); the automatic choice takes the plain
 //! method at a small size and the multilevel one at a large size, and says so in the JSON
 //! report; asking for it on a mesh without a coarser level is a clear error, and so is a
 //! problem beyond the memory budget.
@@ -8,13 +9,22 @@
 use std::process::Command;
 
 use surfkit::fair::{
-    optimize, refine_surface, tubes, FairMethod, FairOptions, FairReport, RepresentationOptions,
-    SurfaceKind, MULTILEVEL_FREE_VERTICES, PLAIN_MEMORY,
+    optimize, refine_surface, tubes, CoarseStart, FairMethod, FairOptions, FairReport,
+    RepresentationOptions, SurfaceKind, MULTILEVEL_FREE_VERTICES, PLAIN_MEMORY,
 };
 use surfkit::limits::MemoryBudget;
 use surfkit::mesh::PolygonMesh;
 
 fn run(mesh: &PolygonMesh, surface: SurfaceKind, method: FairMethod) -> (PolygonMesh, FairReport) {
+    run_with(mesh, surface, method, CoarseStart::Never)
+}
+
+fn run_with(
+    mesh: &PolygonMesh,
+    surface: SurfaceKind,
+    method: FairMethod,
+    coarse_start: CoarseStart,
+) -> (PolygonMesh, FairReport) {
     optimize(
         mesh,
         &FairOptions {
@@ -24,6 +34,7 @@ fn run(mesh: &PolygonMesh, surface: SurfaceKind, method: FairMethod) -> (Polygon
             },
             max_refinements: 0,
             method,
+            coarse_start,
             ..FairOptions::default()
         },
     )
@@ -49,40 +60,49 @@ fn same_minimum(surface: SurfaceKind) {
     let mesh = refine_surface(&tubes(3, 8, 2).unwrap(), 2).unwrap();
     assert_eq!(mesh.vertex_count(), 14399);
     let (plain, plain_report) = run(&mesh, surface, FairMethod::Plain);
-    let (multilevel, report) = run(&mesh, surface, FairMethod::Multilevel);
     assert_eq!(plain_report.method, FairMethod::Plain);
     assert!(plain_report.multilevel_sizes.is_empty());
-    assert_eq!(report.method, FairMethod::Multilevel);
-    // Levels of the free vertices of 14399, then of the 3743-vertex mesh it refines.
-    assert_eq!(report.multilevel_sizes[0], 13247);
-    assert!(report.multilevel_sizes.len() >= 2);
-    assert!(plain_report.newton.converged && report.newton.converged);
-    assert!(report.newton.cg_iterations > 0 && plain_report.newton.cg_iterations == 0);
-    // The multilevel method started from the refined optimum of the mesh it un-subdivides
-    // to (the 3743-vertex one less the ring refinement dropped; two rings held), below
-    // the input's F; the plain one from the input.
-    assert!(plain_report.coarse_start.is_none());
-    let stage = report.coarse_start.as_ref().expect("a coarse stage");
-    assert_eq!(stage.report.vertices, 3551);
-    assert!(stage.used && stage.start_f < report.initial_terms.f);
-    assert_eq!(report.newton.initial.f, stage.start_f);
-    // Both stop at the tolerance relative to the input's gradient.
-    for r in [&plain_report, &report] {
-        assert!(r.final_gradient_norm <= 1e-8 * r.initial_gradient_norm);
-    }
-    let (f_plain, f) = (plain_report.final_terms.f, report.final_terms.f);
-    assert!((f - f_plain).abs() <= 1e-9 * f_plain, "F {f} vs {f_plain}");
-    let worst = plain
-        .positions
-        .iter()
-        .zip(&multilevel.positions)
-        .flat_map(|(a, b)| (0..3).map(move |k| (a[k] - b[k]).abs()))
-        .fold(0.0f64, f64::max);
+    assert!(plain_report.coarse_start.is_none() && plain_report.newton.converged);
+    assert_eq!(plain_report.newton.cg_iterations, 0);
     let diagonal = bounding_box_diagonal(&plain);
-    assert!(
-        worst <= 1e-6 * diagonal,
-        "positions differ by {worst:e} of {diagonal}"
-    );
+    for coarse_start in [CoarseStart::Never, CoarseStart::Multilevel] {
+        let (multilevel, report) = run_with(&mesh, surface, FairMethod::Multilevel, coarse_start);
+        assert_eq!(report.method, FairMethod::Multilevel);
+        // Levels of the free vertices of 14399, then of the 3743-vertex mesh it refines.
+        assert_eq!(report.multilevel_sizes[0], 13247);
+        assert!(report.multilevel_sizes.len() >= 2);
+        assert!(report.newton.converged && report.newton.cg_iterations > 0);
+        if coarse_start == CoarseStart::Multilevel {
+            // Started from the refined optimum of the mesh it un-subdivides to (the
+            // 3743-vertex one less the ring refinement dropped; two rings held), below the
+            // input's F.
+            let stage = report.coarse_start.as_ref().expect("a coarse stage");
+            assert_eq!(stage.report.vertices, 3551);
+            assert!(stage.used && stage.start_f < report.initial_terms.f);
+            assert_eq!(report.newton.initial.f, stage.start_f);
+        } else {
+            assert!(report.coarse_start.is_none());
+        }
+        // Each stops at the tolerance relative to the input's gradient.
+        for r in [&plain_report, &report] {
+            assert!(r.final_gradient_norm <= 1e-8 * r.initial_gradient_norm);
+        }
+        let (f_plain, f) = (plain_report.final_terms.f, report.final_terms.f);
+        assert!(
+            (f - f_plain).abs() <= 1e-9 * f_plain,
+            "{coarse_start:?}: F {f} vs {f_plain}"
+        );
+        let worst = plain
+            .positions
+            .iter()
+            .zip(&multilevel.positions)
+            .flat_map(|(a, b)| (0..3).map(move |k| (a[k] - b[k]).abs()))
+            .fold(0.0f64, f64::max);
+        assert!(
+            worst <= 1e-6 * diagonal,
+            "{coarse_start:?}: positions differ by {worst:e} of {diagonal}"
+        );
+    }
 }
 
 #[test]

@@ -130,10 +130,11 @@ pub struct FairArgs {
     /// meshes the input was refined from), `auto` (multilevel for large refined meshes).
     #[arg(long, value_enum, default_value_t = MethodArg::Auto)]
     pub method: MethodArg,
-    /// Start the multilevel method from the raw mesh instead of from the refined optimum of
-    /// the mesh it un-subdivides to (nested iteration, the default).
+    /// Start the multilevel method from the refined optimum of the mesh the input
+    /// un-subdivides to (nested iteration) instead of from the input: faster on the
+    /// junctions measured, but it may end in another local minimum (README).
     #[arg(long)]
-    pub no_coarse_start: bool,
+    pub coarse_start: bool,
     /// Use the block method of the paper's §5 with this many blocks (for large meshes:
     /// block Newton iterations, then global Newton steps by Schwarz-preconditioned CG).
     #[arg(long)]
@@ -357,10 +358,10 @@ fn options(args: &FairArgs, memory: MemoryBudget) -> FairOptions {
             MethodArg::Plain => FairMethod::Plain,
             MethodArg::Multilevel => FairMethod::Multilevel,
         },
-        coarse_start: if args.no_coarse_start {
-            CoarseStart::Never
-        } else {
+        coarse_start: if args.coarse_start {
             CoarseStart::Multilevel
+        } else {
+            CoarseStart::Never
         },
         ..FairOptions::default()
     };

@@ -136,14 +136,21 @@ pub struct FairOptions {
     pub coarse_start: CoarseStart,
 }
 
-/// When [`optimize`] starts from the refined optimum of the mesh its input un-subdivides to.
+/// When [`optimize`] starts from the refined optimum of the mesh its input un-subdivides to
+/// (nested iteration, `solvers::multilevel::coarse_start`).
+///
+/// Not the default: it is faster where it was measured, but it may end in another local
+/// minimum than the start from the input — lower on the five-tube junctions, higher on
+/// the 56k three-tube one (`benches/fair_ceiling.py`, 2026-11-26: F 39.69 against the plain
+/// method's 28.81, in 360 s against 463 s; 24k five-tube: 114.77 against 130.69 in 80.5 s
+/// against 185.6 s; 14k three-tube: the same minimum in 53.1 s against 89.2 s).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum CoarseStart {
-    /// From the input.
-    Never,
-    /// The multilevel method does (the default); the plain method starts from the input,
-    /// as the paper's.
+    /// From the input, as the paper (the default).
     #[default]
+    Never,
+    /// The multilevel method starts from the coarse optimum; the plain method from the
+    /// input.
     Multilevel,
     /// Both methods do: the coarse stages of a multilevel run, which are solved by the
     /// plain method when small.
@@ -232,7 +239,7 @@ impl Default for FairOptions {
             regularization: DEFAULT_REGULARIZATION,
             hessian_nodes: Some(DEFAULT_HESSIAN_NODES),
             method: FairMethod::Automatic,
-            coarse_start: CoarseStart::Multilevel,
+            coarse_start: CoarseStart::Never,
         }
     }
 }

@@ -1,9 +1,10 @@
-//! Nested iteration: the multilevel method's start. The raw fine mesh is un-subdivided
-//! once, the coarse control mesh that best reproduces it (least squares through the
-//! refinement's stencils) is optimized — the same functional on a quarter of the
-//! unknowns, by whichever method its size takes (itself started the same way where its
-//! fixed rings allow, [`MIN_COARSE_RINGS`]) — and its optimum, refined, is where the fine
-//! Newton iteration starts.
+//! Nested iteration: the multilevel method's optional start (`--coarse-start`;
+//! [`CoarseStart`](crate::fair::CoarseStart) says why it is not the default). The raw fine
+//! mesh is un-subdivided once, the coarse control mesh that best reproduces it (least
+//! squares through the refinement's stencils) is optimized — the same functional on a
+//! quarter of the unknowns, by whichever method its size takes (itself started the same
+//! way where its fixed rings allow, [`MIN_COARSE_RINGS`]) — and its optimum, refined, is
+//! where the fine Newton iteration starts.
 //!
 //! Why: from a raw mesh most of the fine Hessians go into the Levenberg–Marquardt phase
 //! far from the minimum (the 94 077-vertex five-tube junction: 16 of 28 iterations, most of
@@ -14,7 +15,8 @@
 //! (2026-11-26, single runs): 571 s with 10 fine Hessians and a 120 s coarse stage,
 //! against 803 s and 23 Hessians from the raw mesh. The two runs ended in different local
 //! minima (F 127.4 from the coarse start, 149.1 from the raw mesh): where a functional has
-//! several, a different start may find another.
+//! several, a different start may find another — lower there, higher on the 56k
+//! three-tube junction.
 //!
 //! The fine problem is unchanged: its fixed vertices keep the input's coordinates, the
 //! tolerance stays relative to the input's gradient, and a start that does not lower F
