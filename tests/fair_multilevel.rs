@@ -6,11 +6,12 @@
 //! report; asking for it on a mesh without a coarser level is a clear error, and so is a
 //! problem beyond the memory budget.
 
+use std::ops::ControlFlow;
 use std::process::Command;
 
 use surfkit::fair::{
-    optimize, refine_surface, tubes, CoarseStart, FairMethod, FairOptions, FairReport,
-    RepresentationOptions, SurfaceKind, MULTILEVEL_FREE_VERTICES, PLAIN_MEMORY,
+    optimize, optimize_observed, refine_surface, tubes, CoarseStart, FairMethod, FairOptions,
+    FairReport, RepresentationOptions, SurfaceKind, MULTILEVEL_FREE_VERTICES, PLAIN_MEMORY,
 };
 use surfkit::limits::MemoryBudget;
 use surfkit::mesh::PolygonMesh;
@@ -222,4 +223,31 @@ fn fair_refuses_a_problem_beyond_the_memory_budget() {
     assert!(err.contains(&format!("{fits} free vertices fit")), "{err}");
     let (_, report) = optimize(&mesh, &options(600)).unwrap();
     assert!(report.newton.converged);
+}
+
+#[test]
+fn fair_a_cancelled_coarse_stage_cancels_the_run() {
+    // A caller cancelling during the coarse stage stops the whole run there: the fine
+    // iteration does not start, the mesh is the input, and the report says cancelled and
+    // which method would have run.
+    let mesh = refine_surface(&tubes(3, 8, 2).unwrap(), 1).unwrap();
+    let options = FairOptions {
+        max_refinements: 0,
+        method: FairMethod::Multilevel,
+        coarse_start: CoarseStart::Multilevel,
+        ..FairOptions::default()
+    };
+    let mut calls = 0;
+    let (out, report) = optimize_observed(&mesh, &options, &mut |_, _| {
+        calls += 1;
+        ControlFlow::Break(())
+    })
+    .unwrap();
+    assert_eq!(calls, 1);
+    let stage = report.coarse_start.as_ref().expect("the coarse stage ran");
+    assert!(stage.report.newton.cancelled && !stage.used);
+    assert!(report.newton.cancelled && !report.newton.converged);
+    assert!(report.newton.iterations.is_empty());
+    assert_eq!(report.method, FairMethod::Multilevel);
+    assert_eq!(out.positions, mesh.positions);
 }

@@ -465,6 +465,9 @@ pub fn optimize_observed(
                     &mut *observe,
                 )?;
             }
+            if let Some(levels) = &levels {
+                multilevel_sizes = levels.sizes();
+            }
             let report = match levels {
                 _ if coarse_stage
                     .as_ref()
@@ -476,21 +479,18 @@ pub fn optimize_observed(
                         ..NewtonReport::new(start_terms, g0)
                     }
                 }
-                Some(levels) => {
-                    multilevel_sizes = levels.sizes();
-                    newton_with_solver(
-                        &functional,
-                        curvature,
-                        &mut positions,
-                        &newton_options,
-                        MultilevelSolver::new(
-                            levels,
-                            MULTILEVEL_WITH_FACTOR_MEMORY.bytes(functional.free_count())
-                                <= options.representation.memory.get(),
-                        ),
-                        &mut |it| observe(it, g0),
-                    )?
-                }
+                Some(levels) => newton_with_solver(
+                    &functional,
+                    curvature,
+                    &mut positions,
+                    &newton_options,
+                    MultilevelSolver::new(
+                        levels,
+                        MULTILEVEL_WITH_FACTOR_MEMORY.bytes(functional.free_count())
+                            <= options.representation.memory.get(),
+                    ),
+                    &mut |it| observe(it, g0),
+                )?,
                 None => newton_observed_with_hessians(
                     &functional,
                     curvature,
