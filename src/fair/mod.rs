@@ -457,10 +457,10 @@ pub fn optimize_observed(
             if nested {
                 coarse_stage = nested_start(
                     &prepared,
-                    &fixed,
                     &functional,
                     options,
                     &mut positions,
+                    (start_terms.f, g0),
                     &mut newton_options,
                     &mut *observe,
                 )?;

@@ -186,7 +186,8 @@ pub fn coarse_start(
 }
 
 /// Runs the coarse stage for the fine problem `functional` of `mesh` and, if its refined
-/// optimum lowers F below the input's (`positions` on entry), moves `positions` there and
+/// optimum lowers F below the input's (`positions` on entry, where F is `input_f` and
+/// ‖∇F‖ `input_gradient`, already evaluated by the caller), moves `positions` there and
 /// sets `newton.relative_gradient` so that the fine iteration still stops at the
 /// tolerance relative to the input's gradient. `None` when there is no coarse stage.
 ///
@@ -194,22 +195,26 @@ pub fn coarse_start(
 /// As [`coarse_start`].
 pub fn nested_start<R: Representation>(
     mesh: &PolygonMesh,
-    fixed: &[bool],
     functional: &Functional<R>,
     options: &FairOptions,
     positions: &mut Vec<[f64; 3]>,
+    (input_f, input_gradient): (f64, f64),
     newton: &mut NewtonOptions,
     observe: &mut dyn FnMut(&Iteration, f64) -> ControlFlow<()>,
 ) -> Result<Option<CoarseStartReport>> {
-    let Some(stage) = coarse_start(mesh, fixed, options, observe)? else {
+    let fixed: Vec<bool> = functional
+        .free_index()
+        .iter()
+        .map(|&u| u == u32::MAX)
+        .collect();
+    let Some(stage) = coarse_start(mesh, &fixed, options, observe)? else {
         return Ok(None);
     };
-    let (input_terms, input_gradient) = functional.gradient(positions);
     let (start_terms, start_gradient) = functional.gradient(&stage.start);
-    let (input_gradient, start_gradient) = (norm(&input_gradient), norm(&start_gradient));
+    let start_gradient = norm(&start_gradient);
     let used = !stage.report.newton.cancelled
         && start_terms.f.is_finite()
-        && start_terms.f < input_terms.f
+        && start_terms.f < input_f
         && start_gradient.is_finite();
     if used {
         *positions = stage.start;
