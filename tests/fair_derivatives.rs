@@ -217,3 +217,59 @@ fn gauss_newton_part_equals_the_hessian_of_a_flat_surface() {
         .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
     assert!(differ > 1e-3 * exact.iter().fold(0.0f64, |m, x| m.max(x.abs())));
 }
+
+#[test]
+fn fair_gradient_stays_smooth_far_from_the_origin() {
+    // The derivatives at a quadrature point are sums of coefficients times control
+    // vertices. Summed over absolute coordinates, a mesh far from the origin (or a fine
+    // element of a large mesh) loses the digits its element size lacks against its
+    // coordinates, and the gradient becomes noise at the scale of the Newton tail's steps.
+    // The change of ∇F over a step Δ of 10⁻⁵ must be H Δ (Hessian assembled at the
+    // midpoint) here, 10⁸ from the origin, as it is near it (summing absolute coordinates:
+    // 5.7·10⁻⁴, measured when this test was written). Δ is the difference of the rounded
+    // positions, exact by Sterbenz's lemma.
+    const FAR: f64 = 1e8;
+    const STEP: f64 = 1e-5;
+    let mut mesh = perturbed(sector_disc(5, 4).unwrap(), 0.1);
+    for p in &mut mesh.positions {
+        for c in p.iter_mut() {
+            *c += FAR;
+        }
+    }
+    let (rep, fixed) = setup(&mesh);
+    let functional = Functional::new(&rep, &fixed, 0.7);
+    let free = functional.free_index().to_vec();
+    let n = 3 * functional.free_count();
+    let moved = |sign: f64| -> Vec<[f64; 3]> {
+        let mut p = mesh.positions.clone();
+        for (v, q) in p.iter_mut().enumerate() {
+            if free[v] != u32::MAX {
+                for (a, c) in q.iter_mut().enumerate() {
+                    *c += sign * STEP * jitter(7 * v + a);
+                }
+            }
+        }
+        p
+    };
+    let (plus, minus) = (moved(1.0), moved(-1.0));
+    let (_, g_plus) = functional.gradient(&plus);
+    let (_, g_minus) = functional.gradient(&minus);
+    let (_, _, h) = functional.hessian(&mesh.positions);
+    let h = dense(&h, n);
+    let mut delta = vec![0.0; n];
+    for (v, (a, b)) in plus.iter().zip(&minus).enumerate() {
+        if free[v] != u32::MAX {
+            for c in 0..3 {
+                delta[3 * free[v] as usize + c] = a[c] - b[c];
+            }
+        }
+    }
+    let (mut error, mut norm) = (0.0f64, 0.0f64);
+    for r in 0..n {
+        let h_delta: f64 = (0..n).map(|k| h[r * n + k] * delta[k]).sum();
+        error += (g_plus[r] - g_minus[r] - h_delta).powi(2);
+        norm += h_delta.powi(2);
+    }
+    let relative = (error / norm).sqrt();
+    assert!(relative < 1e-6, "‖Δg − H Δ‖ / ‖H Δ‖ = {relative:e}");
+}
