@@ -310,7 +310,8 @@ fn unpack<T: Copy>(x: &[T]) -> [[T; 3]; DERIVATIVES] {
 /// derivatives of a fine element lose the digits its size lacks against the mesh's, and
 /// the gradient they make is noise at the minimum: at the 223 487-vertex three-tube
 /// junction's (an ‖g‖ of 6.2·10⁻² against 3.7·10⁶ at the start) two sums' gradients differed
-/// by 3.4·10⁻², by 2.8·10⁻⁵ relative to a point's vertices. The coefficients of a derivative
+/// by 3.4·10⁻², by 2.8·10⁻⁵ relative to a point's vertices (that junction still stalls near
+/// 1.1·10⁻⁸ ‖g₀‖, with exact Newton steps too: a floor from elsewhere). The coefficients of a derivative
 /// sum to 0 only up to the rounding of their construction (10⁻¹⁰ of their magnitudes at the
 /// G² surface's special elements), hence the sums added back.
 fn point_derivatives<R: Representation>(rep: &R, k: usize, positions: &[[f64; 3]]) -> [f64; VARS] {
