@@ -169,12 +169,7 @@ fn fair_optimize_paper_steps_and_default_steps_reach_the_same_minimum() {
     assert!(kinds(&report).contains(&StepKind::DampedNewton));
     let (f0, f1) = (paper_report.final_terms.f, report.final_terms.f);
     assert!((f0 - f1).abs() <= 1e-9 * f0, "F {f0} vs {f1}");
-    let largest = paper
-        .positions
-        .iter()
-        .zip(&default.positions)
-        .flat_map(|(p, q)| (0..3).map(move |a| (p[a] - q[a]).abs()))
-        .fold(0.0f64, f64::max);
+    let largest = common::largest_coordinate_difference(&paper.positions, &default.positions);
     assert!(largest < 1e-4, "vertices differ by {largest}");
 }
 
@@ -359,12 +354,7 @@ fn fair_optimize_hessians_at_fewer_nodes_reach_the_same_minimum() {
         assert!(report.newton.converged);
         let (f0, f1) = (exact_report.final_terms.f, report.final_terms.f);
         assert!((f0 - f1).abs() <= 1e-9 * f0, "F {f0} vs {f1}");
-        let largest = exact
-            .positions
-            .iter()
-            .zip(&out.positions)
-            .flat_map(|(p, q)| (0..3).map(move |a| (p[a] - q[a]).abs()))
-            .fold(0.0f64, f64::max);
+        let largest = common::largest_coordinate_difference(&exact.positions, &out.positions);
         assert!(largest <= 1e-6 * diagonal, "vertices differ by {largest}");
     }
 }

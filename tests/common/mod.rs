@@ -145,3 +145,12 @@ pub fn unit_cube() -> surfkit::mesh::PolygonMesh {
         ],
     )
 }
+
+/// The largest coordinate difference between two meshes' vertices (same order): how far
+/// two optimizations' results are apart.
+pub fn largest_coordinate_difference(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    a.iter()
+        .zip(b)
+        .flat_map(|(p, q)| (0..3).map(move |k| (p[k] - q[k]).abs()))
+        .fold(0.0f64, f64::max)
+}

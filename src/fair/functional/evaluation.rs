@@ -306,14 +306,16 @@ fn unpack<T: Copy>(x: &[T]) -> [[T; 3]; DERIVATIVES] {
 ///
 /// Summed over the control vertices relative to the point's first one, then that vertex
 /// times the coefficients' sums added back: the same derivatives, but the products are of
-/// the element's size rather than of the coordinates'. Summing absolute coordinates, the
-/// derivatives of a fine element lose the digits its size lacks against the mesh's, and
-/// the gradient they make is noise at the minimum: at the 223 487-vertex three-tube
-/// junction's (an ‖g‖ of 6.2·10⁻² against 3.7·10⁶ at the start) two sums' gradients differed
-/// by 3.4·10⁻², by 2.8·10⁻⁵ relative to a point's vertices (that junction still stalls near
-/// 1.1·10⁻⁸ ‖g₀‖, with exact Newton steps too: a floor from elsewhere). The coefficients of a derivative
-/// sum to 0 only up to the rounding of their construction (10⁻¹⁰ of their magnitudes at the
-/// G² surface's special elements), hence the sums added back.
+/// the element's size rather than of the coordinates'. Summed over absolute coordinates,
+/// a fine element's derivatives lose the digits its size lacks against the mesh's, and
+/// the gradient is noise at the minimum: at the 223 487-vertex three-tube junction's
+/// (‖g‖ 6.2·10⁻², 3.7·10⁶ at the start) the two sums' gradients differed by 3.4·10⁻², two
+/// relative sums (to the first and to the last vertex) by 2.8·10⁻⁵. (That junction still
+/// stalls near 1.1·10⁻⁸ ‖g₀‖, with exact Newton steps too: a floor from elsewhere.)
+/// A derivative's coefficients sum to 0 only up to the rounding of their construction
+/// (10⁻¹⁰ of their magnitudes at the G² surface's special elements), hence the sums added
+/// back; they are summed here rather than stored (72 bytes a point, 255 MB at that size)
+/// because the 9 additions a vertex did not show in the Hessian passes' time.
 fn point_derivatives<R: Representation>(rep: &R, k: usize, positions: &[[f64; 3]]) -> [f64; VARS] {
     let p = &rep.points()[k];
     let mut x = [0.0; VARS];
