@@ -391,9 +391,13 @@ typedef struct SurfkitFairSummary {
   int converged;
   int cancelled;
   /*
-   Stopped where no step decreases F, or at the gradient's round-off floor.
+   Stopped without converging where steps no longer decrease F or the gradient.
    */
   int stuck;
+  /*
+   Stopped above the tolerance at `coordinate_floor`: as close to the minimum as
+   double-precision coordinates come (the run did what it could; not `converged`).
+   */
   int stalled;
   uintptr_t iterations;
   uintptr_t hessian_evaluations;
@@ -413,6 +417,11 @@ typedef struct SurfkitFairSummary {
   double q_after;
   double gradient_norm_before;
   double gradient_norm_after;
+  /*
+   The gradient norm that rounding the free coordinates to doubles gives (about the
+   smallest stored positions can have); 0 when the run computed no Hessian.
+   */
+  double coordinate_floor;
 } SurfkitFairSummary;
 
 /*

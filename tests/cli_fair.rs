@@ -7,7 +7,7 @@ mod common;
 use std::path::Path;
 use std::process::Command;
 
-use surfkit::fair::{fixed_vertices, read_fixed, tubes, MeshTopology, VCG_SELECTED};
+use surfkit::fair::{fixed_vertices, read_fixed, tubes, MeshTopology, FLOOR_MARGIN, VCG_SELECTED};
 use surfkit::mesh::io::{read, write};
 use surfkit::mesh::PolygonMesh;
 use surfkit::subdiv::{
@@ -497,4 +497,25 @@ fn fair_exit_status_says_whether_it_converged() {
         read(&out).unwrap().vertex_count(),
         small_junction().vertex_count()
     );
+    // A tolerance below what double coordinates can hold (‖g‖ of the rounded minimum, the
+    // coordinate floor, is ~10⁻¹⁶ of ‖g₀‖ here): the run stops at that floor, says so,
+    // and succeeds, since no stored mesh is closer to the minimum.
+    let (floored, report, _) = run(&["--tolerance", "1e-18"], "floor.obj");
+    assert_eq!(floored.status.code(), Some(0));
+    let newton = &report["report"]["newton"];
+    assert_eq!(
+        (&newton["converged"], &newton["stalled"]),
+        (&false.into(), &true.into())
+    );
+    let floor = newton["coordinate_floor"].as_f64().unwrap();
+    let (g0, g) = (
+        report["report"]["initial_gradient_norm"].as_f64().unwrap(),
+        report["report"]["final_gradient_norm"].as_f64().unwrap(),
+    );
+    assert!(
+        g <= FLOOR_MARGIN * floor && floor > 1e-18 * g0,
+        "‖g‖ {g:e}, floor {floor:e}"
+    );
+    let said = String::from_utf8_lossy(&floored.stderr);
+    assert!(said.contains("the floor of f64 coordinates"), "{said}");
 }

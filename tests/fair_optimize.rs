@@ -12,6 +12,7 @@ use surfkit::fair::{
     fixed_vertices, optimize, optimize_levels, refine_surface, sector_disc, tubes, FairOptions,
     Functional, LmMatrix, MeshTopology, RepresentationOptions, StepKind, SurfaceRepresentation,
 };
+use surfkit::fair::{ulp, FLOOR_MARGIN};
 
 fn statistics(mesh: &surfkit::mesh::PolygonMesh, options: &RepresentationOptions) -> (f64, f64) {
     let topo = MeshTopology::new(mesh).unwrap();
@@ -357,4 +358,73 @@ fn fair_optimize_hessians_at_fewer_nodes_reach_the_same_minimum() {
         let largest = common::largest_coordinate_difference(&exact.positions, &out.positions);
         assert!(largest <= 1e-6 * diagonal, "vertices differ by {largest}");
     }
+}
+
+/// `positions` with every coordinate of the vertices `moving` one ulp up or down, the
+/// direction from the bits of a multiplicative hash of its index.
+fn one_ulp_moves(positions: &[[f64; 3]], moving: &[bool]) -> Vec<[f64; 3]> {
+    let mut out = positions.to_vec();
+    for (v, p) in out.iter_mut().enumerate().filter(|(v, _)| moving[*v]) {
+        for (a, x) in p.iter_mut().enumerate() {
+            let hash = ((3 * v + a) as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+            *x += if hash >> 63 == 1 { ulp(*x) } else { -ulp(*x) };
+        }
+    }
+    out
+}
+
+#[test]
+fn fair_optimize_stops_at_the_floor_of_its_coordinates() {
+    // 10⁴ from the origin, the author's three-tube junction's coordinates keep 12 digits
+    // fewer of its size: its minimum's ‖g‖, rounded, is ~2·10⁻¹² of ‖g₀‖ (measured when
+    // this test was written). A tolerance of 10⁻¹³ asks for more than that: the run must
+    // stop there (`stalled`, not `stuck`, not the iteration limit), at the minimum a
+    // tolerance it can meet reaches.
+    const FAR: f64 = 1e4;
+    let mut mesh = tubes(3, 4, 3).unwrap();
+    for p in &mut mesh.positions {
+        for c in p.iter_mut() {
+            *c += FAR;
+        }
+    }
+    let run = |relative_gradient| {
+        let mut options = FairOptions {
+            max_refinements: 0,
+            ..FairOptions::default()
+        };
+        options.newton.relative_gradient = relative_gradient;
+        optimize(&mesh, &options).unwrap()
+    };
+    let (_, met) = run(1e-10);
+    assert!(met.newton.converged && !met.newton.stalled && !met.newton.stuck);
+    let (out, report) = run(1e-13);
+    let n = &report.newton;
+    let floor = n.coordinate_floor.expect("a fresh Hessian gives the floor");
+    assert!(floor > 1e-13 * n.initial_gradient_norm, "floor {floor:e}");
+    assert!(n.stalled && !n.converged && !n.stuck, "{n:?}");
+    assert!(report.final_gradient_norm <= FLOOR_MARGIN * floor);
+    assert!(n.iterations.len() < FairOptions::default().newton.max_iterations);
+    let (f_met, f) = (met.final_terms.f, report.final_terms.f);
+    assert!((f - f_met).abs() <= 1e-12 * f_met, "F {f} vs {f_met}");
+
+    // The floor is ‖H u‖ for a rounding u of RMS ulp/√12: moving each free coordinate by
+    // one ulp must change the gradient (evaluated, not multiplied) by √12 times that,
+    // give or take the spread of random signs.
+    let topo = MeshTopology::new(&mesh).unwrap();
+    let fixed = fixed_vertices(&topo, 3, &[]).unwrap();
+    let special = topo.special_flags();
+    let options = RepresentationOptions::default();
+    let rep = SurfaceRepresentation::new(&mesh, &topo.boundary, &special, &options).unwrap();
+    let functional = Functional::new(&rep, &fixed, report.regularization * report.c);
+    let free: Vec<bool> = fixed.iter().map(|f| !f).collect();
+    let (_, g) = functional.gradient(&out.positions);
+    let (_, moved) = functional.gradient(&one_ulp_moves(&out.positions, &free));
+    let change = g
+        .iter()
+        .zip(&moved)
+        .map(|(a, b)| (a - b).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    let ratio = change / (12f64.sqrt() * floor);
+    assert!((0.5..2.0).contains(&ratio), "‖Δg‖ / (√12 floor) = {ratio}");
 }

@@ -122,8 +122,10 @@ pub struct SurfkitFairSummary {
     pub method: c_int,
     pub converged: c_int,
     pub cancelled: c_int,
-    /// Stopped where no step decreases F, or at the gradient's round-off floor.
+    /// Stopped without converging where steps no longer decrease F or the gradient.
     pub stuck: c_int,
+    /// Stopped above the tolerance at `coordinate_floor`: as close to the minimum as
+    /// double-precision coordinates come (the run did what it could; not `converged`).
     pub stalled: c_int,
     pub iterations: usize,
     pub hessian_evaluations: usize,
@@ -141,6 +143,9 @@ pub struct SurfkitFairSummary {
     pub q_after: f64,
     pub gradient_norm_before: f64,
     pub gradient_norm_after: f64,
+    /// The gradient norm that rounding the free coordinates to doubles gives (about the
+    /// smallest stored positions can have); 0 when the run computed no Hessian.
+    pub coordinate_floor: f64,
 }
 
 /// An opaque fairing report (free with [`surfkit_fair_report_free`]).
@@ -313,6 +318,7 @@ pub unsafe extern "C" fn surfkit_fair_report_summary(
             q_after: r.final_terms.q,
             gradient_norm_before: r.initial_gradient_norm,
             gradient_norm_after: r.final_gradient_norm,
+            coordinate_floor: n.coordinate_floor.unwrap_or(0.0),
         };
         Ok(())
     })

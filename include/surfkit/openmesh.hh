@@ -564,6 +564,10 @@ struct FairReport {
   size_t iterations = 0, hessian_evaluations = 0, free_vertices = 0;
   double s_before = 0, s_after = 0, f_before = 0, f_after = 0, q_before = 0, q_after = 0;
   double gradient_norm_before = 0, gradient_norm_after = 0;
+  /// Stopped above the tolerance at the gradient's floor for double coordinates,
+  /// coordinate_floor (|H u| for u their rounding): as close as doubles come.
+  bool stalled = false;
+  double coordinate_floor = 0;
   /// The surface optimized (SURFKIT_SURFACE_G2 or SURFKIT_SURFACE_CATMULL_CLARK).
   int surface = SURFKIT_SURFACE_G2;
   /// The method that ran (SURFKIT_METHOD_PLAIN or SURFKIT_METHOD_MULTILEVEL).
@@ -665,6 +669,8 @@ FairReport fair(Mesh& mesh, const FairOptions& options = FairOptions{}) {
   r.q_after = s.q_after;
   r.gradient_norm_before = s.gradient_norm_before;
   r.gradient_norm_after = s.gradient_norm_after;
+  r.stalled = s.stalled != 0;
+  r.coordinate_floor = s.coordinate_floor;
   r.surface = s.surface;
   r.method = s.method;
   const char* json = nullptr;

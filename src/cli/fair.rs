@@ -625,7 +625,18 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
         }
     }
     let n = &report.newton;
-    if n.converged || n.stalled {
+    if n.converged {
+        return Ok(ExitCode::SUCCESS);
+    }
+    if let (true, Some(floor)) = (n.stalled, n.coordinate_floor) {
+        // As close as f64 coordinates come: the goal is met as far as the output can hold it.
+        eprintln!(
+            "surfkit fair: stopped at |g|/|g0| = {:.3e}, the floor of f64 coordinates \
+             (rounding them moves |g| by {:.3e} of |g0|); --tolerance {:.1e} is below it",
+            report.final_gradient_norm / report.initial_gradient_norm,
+            floor / report.initial_gradient_norm,
+            args.tolerance,
+        );
         return Ok(ExitCode::SUCCESS);
     }
     eprintln!(

@@ -40,10 +40,11 @@ pub use preparation::topology::{condition_violation, MeshTopology};
 pub use solvers::block_method::{block_newton, BlockOptions, BlockPhase, BlockReport};
 pub use solvers::blocks::voronoi_blocks;
 pub use solvers::cholesky::{Factor, Factorizer};
+pub use solvers::coordinate_floor::{coordinate_floor, ulp};
 pub use solvers::levels::{optimize_levels, optimize_levels_observed, CoarseToFine, LevelReport};
 pub use solvers::newton::{
     newton, newton_observed, newton_observed_with_hessians, Iteration, LmMatrix, NewtonOptions,
-    NewtonReport, StepKind,
+    NewtonReport, StepKind, FLOOR_MARGIN,
 };
 pub use solvers::pcg::{multiply, pcg, pcg_operator, CgOutcome, CgStop};
 pub use solvers::schwarz::Schwarz;

@@ -5,6 +5,7 @@
 pub(crate) mod block_method;
 pub(crate) mod blocks;
 pub(crate) mod cholesky;
+pub(crate) mod coordinate_floor;
 pub(crate) mod levels;
 pub(crate) mod multilevel;
 pub(crate) mod newton;

@@ -16,6 +16,7 @@ use std::time::Instant;
 use crate::error::{Error, Result};
 use crate::fair::functional::evaluation::{BlockHessian, Functional, HessianKind, Hessians, Terms};
 use crate::fair::solvers::cholesky::Factorizer;
+use crate::fair::solvers::coordinate_floor::coordinate_floor;
 use crate::fair::solvers::step_solver::{CholeskySolver, StepSolver};
 use crate::fair::surface::representation::Representation;
 use crate::linalg::{dot, norm};
@@ -57,9 +58,9 @@ pub struct NewtonOptions {
     /// Reuse the factor while a step divides ‖g‖ by at least this (§5: 4).
     pub reuse_factor: f64,
     /// Stop after this many consecutive Newton steps with a fresh Hessian that change F by
-    /// no more than round-off and do not halve ‖g‖: the gradient has reached the
-    /// round-off floor of its evaluation and further Hessians are wasted
-    /// ([`NewtonReport::stalled`]).
+    /// no more than round-off and do not halve ‖g‖, above the coordinates' floor (which
+    /// stops the run first where it is reached): further Hessians would be wasted, and the
+    /// run says it is [`NewtonReport::stuck`].
     pub stall_steps: usize,
     /// The matrix M of the Levenberg–Marquardt trajectory (M + νI) δ = −g.
     pub lm_matrix: LmMatrix,
@@ -126,12 +127,20 @@ pub struct NewtonReport {
     pub fine_factorizations: usize,
     pub fine_factorization_seconds: f64,
     pub converged: bool,
-    /// Stopped at the round-off floor before the gradient tolerance (see
-    /// [`NewtonOptions::stall_steps`]); `converged` is false then.
+    /// ‖H u‖ for u the rounding of the free coordinates to `f64`, at the last fresh
+    /// Hessian: about the smallest ‖g‖ stored positions can have
+    /// ([`crate::fair::solvers::coordinate_floor`]).
+    pub coordinate_floor: Option<f64>,
+    /// Stopped above the gradient tolerance with ‖g‖ within [`FLOOR_MARGIN`] times
+    /// `coordinate_floor`: the tolerance asks for more digits than `f64` coordinates have,
+    /// and these positions are as close to the minimum as they can be told apart from
+    /// their neighbours. `converged` is false then.
     pub stalled: bool,
-    /// Stopped because no step along the Levenberg–Marquardt trajectory, nor along −g,
-    /// decreased F: the gradient disagrees with F there (a nearly folded surface, where
-    /// √(EG − F²) vanishes between quadrature points, say). The positions reached are
+    /// Stopped without converging because steps no longer make progress: no step along
+    /// the Levenberg–Marquardt trajectory, nor along −g, decreased F (the gradient
+    /// disagrees with F there: a nearly folded surface, where √(EG − F²) vanishes between
+    /// quadrature points, say), or fresh Newton steps left F and ‖g‖ as they were above
+    /// the coordinates' floor ([`NewtonOptions::stall_steps`]). The positions reached are
     /// returned; `converged` is false.
     pub stuck: bool,
     /// Stopped because the caller's observer asked for it (`ControlFlow::Break`): a
@@ -157,10 +166,17 @@ impl NewtonReport {
             fine_factorizations: 0,
             fine_factorization_seconds: 0.0,
             converged: initial_gradient_norm == 0.0,
+            coordinate_floor: None,
             stalled: false,
             stuck: false,
             cancelled: false,
         }
+    }
+
+    /// Whether `gradient_norm` is within [`FLOOR_MARGIN`] of the last coordinate floor.
+    fn at_coordinate_floor(&self, gradient_norm: f64) -> bool {
+        self.coordinate_floor
+            .is_some_and(|floor| gradient_norm <= FLOOR_MARGIN * floor)
     }
 
     /// A parenthesized remark for printed summaries: empty when converged.
@@ -170,9 +186,9 @@ impl NewtonReport {
         } else if self.cancelled {
             " (cancelled by the caller)"
         } else if self.stuck {
-            " (stopped: no step decreases F, the surface may be nearly folded)"
+            " (stopped: steps no longer decrease F or ‖g‖; the surface may be nearly folded)"
         } else if self.stalled {
-            " (stopped at the round-off floor of the gradient, above the tolerance)"
+            " (stopped at the floor of f64 coordinates, above the tolerance)"
         } else {
             " (not converged)"
         }
@@ -196,6 +212,11 @@ pub(crate) fn moved(
     }
     out
 }
+
+/// How close to the coordinates' floor ‖g‖ must come for a run to stop there
+/// ([`NewtonReport::stalled`]): the rounded positions' ‖g‖ is about the floor, give or take
+/// the luck of a rounding; a Newton step from twice the floor gains less than one rounding.
+pub const FLOOR_MARGIN: f64 = 2.0;
 
 /// Whether `new` is an acceptable decrease from `old`: smaller, or equal to round-off.
 pub(crate) fn decreases(new: f64, old: f64) -> bool {
@@ -589,6 +610,10 @@ pub(crate) fn newton_with_solver<R: Representation, S: StepSolver>(
             run.report.converged = true;
             break;
         }
+        if run.report.at_coordinate_floor(gnorm) {
+            run.report.stalled = true;
+            break;
+        }
         let mut step = None;
         // 1. Newton with the kept factor.
         if let Some(factor) = reusable.take() {
@@ -625,6 +650,8 @@ pub(crate) fn newton_with_solver<R: Representation, S: StepSolver>(
                 g = hessians.gradient;
             }
             let h = hessians.exact.expect("asked for");
+            run.report.coordinate_floor =
+                Some(coordinate_floor(&h, positions, functional.free_index()));
             let gauss_newton = hessians.gauss_newton;
             let exact_key = 2 * run.passes;
             if let Some(factor) = run.factor(&h, exact_key, 0.0) {
@@ -695,7 +722,10 @@ pub(crate) fn newton_with_solver<R: Representation, S: StepSolver>(
             break;
         }
         if options.stall_steps > 0 && stalled_steps >= options.stall_steps {
-            run.report.stalled = norm(&g) > options.relative_gradient * g0;
+            let gnorm = norm(&g);
+            run.report.converged = gnorm <= options.relative_gradient * g0;
+            run.report.stalled = !run.report.converged && run.report.at_coordinate_floor(gnorm);
+            run.report.stuck = !run.report.converged && !run.report.stalled;
             break;
         }
     }
