@@ -218,7 +218,7 @@ fn raw_start(
         }
     );
     println!(
-        "        {}; converged {} stalled {} stuck {}; CPU {cpu:.1} s on {} threads, {:.1} s in {} Hessians \
+        "        {}; converged {} at the coordinates' floor {} stuck {}; CPU {cpu:.1} s on {} threads, {:.1} s in {} Hessians \
          and {} Gauss–Newton parts, {:.1} s in {} factorizations; {}",
         if levels > 0 {
             format!("{n} tubes refined {levels}x")
