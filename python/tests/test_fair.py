@@ -140,3 +140,15 @@ def test_bad_fair_options_are_refused(tubes: Path):
     closed = surfkit.read_mesh(Path(__file__).parents[2] / "fixtures/meshes/catmark_torus.obj")
     with pytest.raises(surfkit.SurfkitError):
         surfkit.fair(closed)
+
+
+def test_a_tolerance_below_the_coordinates_floor_stops_there(tubes: Path):
+    """10⁻¹⁸ of ‖g₀‖ is below what double coordinates hold (the rounded minimum's ‖g‖ is
+    ~10⁻¹⁶ of it here): the run stops at that floor, within twice it (FLOOR_MARGIN), and
+    says so in the report, without an error."""
+    _, report = surfkit.fair(surfkit.read_mesh(tubes), relative_gradient=1e-18)
+    newton = report["newton"]
+    assert newton["stalled"] and not newton["converged"] and not newton["stuck"]
+    floor = newton["coordinate_floor"]
+    assert floor > 1e-18 * report["initial_gradient_norm"]
+    assert report["final_gradient_norm"] <= 2 * floor
