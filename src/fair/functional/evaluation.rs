@@ -311,7 +311,8 @@ fn unpack<T: Copy>(x: &[T]) -> [[T; 3]; DERIVATIVES] {
 /// the gradient is noise at the minimum: at the 223 487-vertex three-tube junction's
 /// (‖g‖ 6.2·10⁻², 3.7·10⁶ at the start) the two sums' gradients differed by 3.4·10⁻², two
 /// relative sums (to the first and to the last vertex) by 2.8·10⁻⁵. (That junction still
-/// stalls near 1.1·10⁻⁸ ‖g₀‖, with exact Newton steps too: a floor from elsewhere.)
+/// stops near 1.1·10⁻⁸ ‖g₀‖: the floor of its `f64` coordinates,
+/// [`crate::fair::solvers::coordinate_floor`].)
 /// A derivative's coefficients sum to 0 only up to the rounding of their construction
 /// (10⁻¹⁰ of their magnitudes at the G² surface's special elements), hence the sums added
 /// back; they are summed here rather than stored (72 bytes a point, 255 MB at that size)

@@ -4,9 +4,10 @@
 //! Hessian (forward-over-reverse).
 //!
 //! All of them start from the tangential parts r = P x themselves, never from
-//! ‖x‖² − (n·x)²/‖n‖²: near a minimum with a large c, ∇Δp is almost normal, and that
-//! difference (and the terms of its gradient, of size ‖x‖²) cancels to a round-off of
-//! c ε ‖x‖² per point, which summed over the mesh is a floor under ‖∇F‖.
+//! ‖x‖² − (n·x)²/‖n‖²: where ∇Δp is almost normal that difference (and the terms of its
+//! gradient, of size ‖x‖²) cancels to a round-off of ε ‖x‖², far above ‖r‖² (tested).
+//! On the meshes measured so far it made no difference (the 223k junction's gradient at
+//! its minimum: the same to 10⁻¹²); its floor is the coordinates'.
 
 use crate::fair::functional::tangent::{cross, dot, Num, V};
 

@@ -723,9 +723,10 @@ pub(crate) fn newton_with_solver<R: Representation, S: StepSolver>(
         }
         if options.stall_steps > 0 && stalled_steps >= options.stall_steps {
             let gnorm = norm(&g);
-            run.report.converged = gnorm <= options.relative_gradient * g0;
-            run.report.stalled = !run.report.converged && run.report.at_coordinate_floor(gnorm);
-            run.report.stuck = !run.report.converged && !run.report.stalled;
+            if gnorm > options.relative_gradient * g0 {
+                run.report.stalled = run.report.at_coordinate_floor(gnorm);
+                run.report.stuck = !run.report.stalled;
+            }
             break;
         }
     }
