@@ -3,8 +3,8 @@
 
 use surfkit::assert_near;
 use surfkit::fair::{
-    fixed_vertices, sector_disc, Functional, HessianKind, MeshTopology, PatchRepresentation,
-    RepresentationOptions,
+    fixed_vertices, refine_surface, sector_disc, tubes, Functional, HessianKind, MeshTopology,
+    PatchRepresentation, Representation, RepresentationOptions, SurfaceKind, SurfaceRepresentation,
 };
 use surfkit::mesh::PolygonMesh;
 use surfkit::tolerance::FINITE_DIFFERENCE;
@@ -272,4 +272,105 @@ fn fair_gradient_stays_smooth_far_from_the_origin() {
     }
     let relative = (error / norm).sqrt();
     assert!(relative < 1e-6, "‖Δg − H Δ‖ / ‖H Δ‖ = {relative:e}");
+}
+
+#[test]
+fn numbering_changes_neither_f_nor_its_derivatives_nor_the_shared_tables() {
+    // Patch vertices are kept in the patch's order, not by id, so that every ordinary
+    // patch shares one coefficient table per node; a pair of patch vertices whose free
+    // indices run backwards then adds its transpose to the block. Reversing the ids of a
+    // 3743-vertex junction turns most pairs around: F, the gradient and both Hessians must
+    // be the same (permuted) to round-off, on both surfaces, and so must the number of
+    // distinct tables.
+    let mesh = perturbed(refine_surface(&tubes(3, 8, 2).unwrap(), 1).unwrap(), 0.05);
+    let n = mesh.vertex_count();
+    let reversed_id = |v: u32| (n - 1) as u32 - v;
+    let faces: Vec<Vec<u32>> = mesh
+        .faces()
+        .map(|f| f.iter().map(|&v| reversed_id(v)).collect())
+        .collect();
+    let reversed =
+        PolygonMesh::from_polygons(mesh.positions.iter().rev().copied().collect(), &faces);
+    for surface in [SurfaceKind::G2, SurfaceKind::CatmullClark] {
+        let build = |m: &PolygonMesh| {
+            let topo = MeshTopology::new(m).unwrap();
+            let options = RepresentationOptions {
+                surface,
+                isolation: 2,
+                ..RepresentationOptions::default()
+            };
+            let rep =
+                SurfaceRepresentation::new(m, &topo.boundary, &topo.special_flags(), &options)
+                    .unwrap();
+            (rep, fixed_vertices(&topo, 3, &[]).unwrap())
+        };
+        let ((rep, fixed), (rep_r, fixed_r)) = (build(&mesh), build(&reversed));
+        let distinct = |rep: &SurfaceRepresentation| {
+            let mut tables: Vec<*const [f64; 9]> = rep
+                .points()
+                .iter()
+                .map(|p| p.coefficients.as_ptr())
+                .collect();
+            tables.sort_unstable();
+            tables.dedup();
+            tables.len()
+        };
+        let points = rep.points().len();
+        assert_eq!(distinct(&rep), distinct(&rep_r), "{surface:?}");
+        assert!(
+            distinct(&rep) * 20 < points,
+            "{surface:?}: {} tables for {points} points",
+            distinct(&rep)
+        );
+        let (f, f_r) = (
+            Functional::new(&rep, &fixed, 0.7),
+            Functional::new(&rep_r, &fixed_r, 0.7),
+        );
+        let free = f.free_count();
+        assert_eq!(free, f_r.free_count());
+        // Free index i of `mesh` is free index free − 1 − i of `reversed`.
+        let both = f.hessians(&mesh.positions, HessianKind::Both);
+        let both_r = f_r.hessians(&reversed.positions, HessianKind::Both);
+        assert_near!(both.terms.f, both_r.terms.f, 1e-12 * both.terms.f);
+        let g_scale = both.gradient.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        for i in 0..free {
+            for a in 0..3 {
+                let (x, y) = (
+                    both.gradient[3 * i + a],
+                    both_r.gradient[3 * (free - 1 - i) + a],
+                );
+                assert_near!(x / g_scale, y / g_scale, 1e-11);
+            }
+        }
+        for (h, h_r) in [
+            (both.exact.unwrap(), both_r.exact.unwrap()),
+            (both.gauss_newton.unwrap(), both_r.gauss_newton.unwrap()),
+        ] {
+            let entries = |h: &surfkit::fair::BlockHessian, flip: bool| {
+                let mut m = std::collections::HashMap::new();
+                for (&(i, j), b) in h.blocks.iter().zip(&h.values) {
+                    let (i, j) = if flip {
+                        (free as u32 - 1 - i, free as u32 - 1 - j)
+                    } else {
+                        (i, j)
+                    };
+                    for (a, row) in b.iter().enumerate() {
+                        for (c, &x) in row.iter().enumerate() {
+                            // Both triangles, so that a block stored the other way round
+                            // meets its counterpart.
+                            m.insert((3 * i + a as u32, 3 * j + c as u32), x);
+                            m.insert((3 * j + c as u32, 3 * i + a as u32), x);
+                        }
+                    }
+                }
+                m
+            };
+            let (m, m_r) = (entries(&h, false), entries(&h_r, true));
+            assert_eq!(m.len(), m_r.len());
+            let scale = m.values().fold(0.0f64, |s, x| s.max(x.abs()));
+            for (key, x) in &m {
+                assert_near!(x / scale, m_r[key] / scale, 1e-11);
+            }
+        }
+    }
 }

@@ -325,7 +325,7 @@ fn point_derivatives<R: Representation>(rep: &R, k: usize, positions: &[[f64; 3]
     };
     let origin = positions[first as usize];
     let mut sums = [0.0; DERIVATIVES];
-    for (&v, c) in p.vertices.iter().zip(&p.coefficients) {
+    for (&v, c) in p.vertices.iter().zip(p.coefficients.iter()) {
         let pos = positions[v as usize];
         let relative = [pos[0] - origin[0], pos[1] - origin[1], pos[2] - origin[2]];
         for d in 0..DERIVATIVES {
@@ -355,10 +355,14 @@ pub struct BlockHessian {
 /// A run of consecutive quadrature points with the same control vertices (a patch).
 struct Group {
     points: Range<usize>,
-    /// Block slot of each (k, l) pair of the vertices (row-major, k ≤ l), `u32::MAX`
-    /// where a vertex is fixed or the pair lies below the diagonal.
+    /// Block slot of each (k, l) pair of the vertices (row-major, k ≤ l), with
+    /// [`TRANSPOSED`] set where the block's row is vertex l's; `u32::MAX` where a vertex is
+    /// fixed or the pair lies below the diagonal.
     slots: Vec<u32>,
 }
+
+/// Flag of a [`Group`] slot whose block is the transpose of the patch pair's.
+const TRANSPOSED: u32 = 1 << 31;
 
 /// Sums of a share of the quadrature points, and the scratch space to compute them.
 struct Partial {
@@ -485,13 +489,14 @@ impl<'a, R: Representation> Functional<'a, R> {
                     if j == u32::MAX {
                         continue;
                     }
-                    // Free indices grow with vertex ids and `vertices` is sorted: i ≤ j.
+                    // The patch's order is not the free indices': the pair's block may
+                    // be (j, i), which holds this pair's transpose.
                     let next = blocks.len() as u32;
-                    let slot = *slot_of.entry((i, j)).or_insert_with(|| {
-                        blocks.push((i, j));
+                    let slot = *slot_of.entry((i.min(j), i.max(j))).or_insert_with(|| {
+                        blocks.push((i.min(j), i.max(j)));
                         next
                     });
-                    slots[k * m + l] = slot;
+                    slots[k * m + l] = if i > j { slot | TRANSPOSED } else { slot };
                 }
             }
             groups.push(Group {
@@ -636,7 +641,7 @@ impl<'a, R: Representation> Functional<'a, R> {
 
     fn scatter_gradient(&self, k: usize, grad: &[f64], g: &mut [f64]) {
         let p = &self.rep.points()[k];
-        for (&v, c) in p.vertices.iter().zip(&p.coefficients) {
+        for (&v, c) in p.vertices.iter().zip(p.coefficients.iter()) {
             let i = self.free_index[v as usize];
             if i == u32::MAX {
                 continue;
@@ -867,7 +872,8 @@ fn map_rows(p: &QuadraturePoint, rows: &ResidualRows, top: usize, out: &mut Mat<
 }
 
 /// Adds the patch matrix `local` (rows and columns (a, l): coordinate a of patch vertex
-/// l) to the sparse blocks of its free vertex pairs.
+/// l) to the sparse blocks of its free vertex pairs, transposed where the block's row is
+/// the pair's second vertex.
 fn scatter_blocks(group: &Group, local: &Mat<f64>, values: &mut [[[f64; 3]; 3]]) {
     let m = local.nrows() / 3;
     for k in 0..m {
@@ -876,10 +882,15 @@ fn scatter_blocks(group: &Group, local: &Mat<f64>, values: &mut [[[f64; 3]; 3]])
             if slot == u32::MAX {
                 continue;
             }
-            let block = &mut values[slot as usize];
+            let block = &mut values[(slot & !TRANSPOSED) as usize];
+            let transposed = slot & TRANSPOSED != 0;
             for (a, row) in block.iter_mut().enumerate() {
                 for (b, x) in row.iter_mut().enumerate() {
-                    *x += local[(a * m + k, b * m + l)];
+                    *x += if transposed {
+                        local[(b * m + k, a * m + l)]
+                    } else {
+                        local[(a * m + k, b * m + l)]
+                    };
                 }
             }
         }

@@ -7,4 +7,5 @@ pub(crate) mod curvature_map;
 pub(crate) mod g2;
 pub(crate) mod quadrature;
 pub(crate) mod representation;
+pub(crate) mod shared_tables;
 pub(crate) mod sub_representation;

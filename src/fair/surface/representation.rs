@@ -4,8 +4,11 @@
 //! own (9, 9) special elements (§3) can replace the B-spline end caps by implementing
 //! [`Representation`] without touching the functional or the optimizer.
 
+use std::sync::Arc;
+
 use crate::error::{Error, Result};
 use crate::fair::surface::quadrature::gauss_legendre;
+use crate::fair::surface::shared_tables::SharedTables;
 use crate::limits::MemoryBudget;
 use crate::mesh::PolygonMesh;
 use crate::subdiv::{cubic_basis, limit_surface, PatchOptions, PatchSurface, SubdivOptions};
@@ -36,10 +39,13 @@ pub struct QuadraturePoint {
     pub weight_s: f64,
     /// Quadrature weight × element area × Cᵢ, for Q (eq. 5).
     pub weight_q: f64,
-    /// Control vertices with a nonzero coefficient, sorted, distinct.
-    pub vertices: Vec<u32>,
-    /// `coefficients[k][d]`: coefficient of `vertices[k]` in derivative `d`.
-    pub coefficients: Vec<[f64; DERIVATIVES]>,
+    /// Control vertices with a nonzero coefficient, distinct, in the patch's own order
+    /// rather than by id, so that patches of the same kind have the same coefficient
+    /// table whatever the mesh's numbering; one list shared by a patch's points.
+    pub vertices: Arc<[u32]>,
+    /// `coefficients[k][d]`: coefficient of `vertices[k]` in derivative `d` (shared with
+    /// the points whose table is the same, [`SharedTables`]).
+    pub coefficients: Arc<[[f64; DERIVATIVES]]>,
 }
 
 /// Control vertices → per-quadrature-point derivatives as fixed linear maps.
@@ -242,6 +248,7 @@ impl PatchRepresentation {
             .collect();
         let element_count = internal.iter().filter(|&&b| b).count();
         let mut points = Vec::new();
+        let tables = SharedTables::default();
         for (p, patch) in surface.patches().iter().enumerate() {
             let f = patch.base_face as usize;
             if !internal[f] {
@@ -258,7 +265,7 @@ impl PatchRepresentation {
                 options.c_ordinary
             };
             let in_s = patch.regular || options.end_caps == EndCaps::Include;
-            push_bicubic_points(&mut points, &rows, &rule, h, in_s, c);
+            push_bicubic_points(&mut points, &tables, &rows, &rule, h, in_s, c);
         }
         Ok(PatchRepresentation {
             vertex_count: mesh.vertex_count(),
@@ -302,18 +309,24 @@ pub(crate) fn check_quad_mesh(
 /// Appends the quadrature points of one bicubic B-spline patch (its 16 control points'
 /// vertex weights `rows`, row-major with u along a row) under `rule` per direction;
 /// derivatives scaled to a domain of size `h` (see [`QDomain`]), S integrated if `in_s`, Q
-/// weighted by `c`.
+/// weighted by `c`; coefficient tables shared through `tables`.
 pub(crate) fn push_bicubic_points(
     points: &mut Vec<QuadraturePoint>,
+    tables: &SharedTables,
     rows: &[Vec<(u32, f64)>; 16],
     rule: &[(f64, f64)],
     h: f64,
     in_s: bool,
     c: f64,
 ) {
-    let mut vertices: Vec<u32> = rows.iter().flatten().map(|&(v, _)| v).collect();
-    vertices.sort_unstable();
-    vertices.dedup();
+    // Distinct, in the order of first appearance (see `QuadraturePoint::vertices`).
+    let mut vertices: Vec<u32> = Vec::with_capacity(16);
+    for &(v, _) in rows.iter().flatten() {
+        if !vertices.contains(&v) {
+            vertices.push(v);
+        }
+    }
+    let vertices: Arc<[u32]> = vertices.into();
     let bases: Vec<[[f64; 4]; 4]> = rule.iter().map(|&(x, _)| cubic_basis(x)).collect();
     for (a, &(_, wu)) in rule.iter().enumerate() {
         for (b, &(_, wv)) in rule.iter().enumerate() {
@@ -326,7 +339,7 @@ pub(crate) fn push_bicubic_points(
                     d[slot] = bu[ou][j] * bv[ov][i] * h.powi(-((ou + ov) as i32));
                 }
                 for &(v, w) in row {
-                    let at = vertices.binary_search(&v).unwrap_or(0);
+                    let at = vertices.iter().position(|&u| u == v).unwrap_or(0);
                     for s in 0..DERIVATIVES {
                         coefficients[at][s] += w * d[s];
                     }
@@ -336,8 +349,8 @@ pub(crate) fn push_bicubic_points(
             points.push(QuadraturePoint {
                 weight_s: if in_s { area } else { 0.0 },
                 weight_q: area * c,
-                vertices: vertices.clone(),
-                coefficients,
+                vertices: Arc::clone(&vertices),
+                coefficients: tables.share(coefficients),
             });
         }
     }

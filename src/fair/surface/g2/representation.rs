@@ -17,8 +17,10 @@ use crate::fair::surface::representation::{
     check_weights, push_bicubic_points, QuadraturePoint, Representation, RepresentationOptions,
     DERIVATIVES, DERIVATIVE_ORDERS,
 };
+use crate::fair::surface::shared_tables::SharedTables;
 use crate::mesh::PolygonMesh;
 use rayon::prelude::*;
+use std::sync::Arc;
 
 /// The G² surface's quadrature rows.
 pub struct G2Representation {
@@ -32,21 +34,22 @@ pub struct G2Representation {
 /// Appends the quadrature points of sector `s`'s patch of the special element `net`.
 fn push_special_points(
     points: &mut Vec<QuadraturePoint>,
+    tables: &SharedTables,
     basis: &PatchMatrix,
     net: &SabinNet,
     s: usize,
     rule: &[(f64, f64)],
     c: f64,
 ) -> Result<()> {
-    // (net index, mesh vertex) of the columns the surface depends on, sorted by vertex
-    let mut columns: Vec<(usize, u32)> = net
+    // (net index, mesh vertex) of the columns the surface depends on, in the net's order
+    // (see `QuadraturePoint::vertices`)
+    let columns: Vec<(usize, u32)> = net
         .vertices
         .iter()
         .enumerate()
         .filter_map(|(i, v)| v.map(|v| (i, v)))
         .collect();
-    columns.sort_unstable_by_key(|&(_, v)| v);
-    let vertices: Vec<u32> = columns.iter().map(|&(_, v)| v).collect();
+    let vertices: Arc<[u32]> = columns.iter().map(|&(_, v)| v).collect();
     let domain = &basis.sectors[s];
     for &(u, wu) in rule {
         for &(v, wv) in rule {
@@ -83,8 +86,8 @@ fn push_special_points(
             points.push(QuadraturePoint {
                 weight_s: area,
                 weight_q: area * c,
-                vertices: vertices.clone(),
-                coefficients,
+                vertices: Arc::clone(&vertices),
+                coefficients: tables.share(coefficients),
             });
         }
     }
@@ -127,6 +130,7 @@ impl G2Representation {
         options: &RepresentationOptions,
     ) -> Result<Self> {
         let rule = gauss_legendre(options.nodes)?;
+        let tables = SharedTables::default();
         // Each element's points on its own (in parallel), concatenated in face order.
         let per_element = surface
             .faces
@@ -135,11 +139,18 @@ impl G2Representation {
             .map(|patch| {
                 let mut points = Vec::new();
                 match patch {
-                    FacePatch::Bicubic(rows) => {
-                        push_bicubic_points(&mut points, rows, &rule, 1.0, true, options.c_ordinary)
-                    }
+                    FacePatch::Bicubic(rows) => push_bicubic_points(
+                        &mut points,
+                        &tables,
+                        rows,
+                        &rule,
+                        1.0,
+                        true,
+                        options.c_ordinary,
+                    ),
                     FacePatch::Special { element, sector } => push_special_points(
                         &mut points,
+                        &tables,
                         &surface.bases[*element],
                         &surface.special_elements[*element],
                         *sector,
