@@ -311,25 +311,27 @@ fn fair_optimize_regularization_weights_q_by_c_times_c() {
 #[test]
 fn fair_optimize_hessians_at_fewer_nodes_reach_the_same_minimum() {
     // The author's three-tube mesh on the G² surface with F at 8 × 8 nodes: Newton with
-    // Hessians at 8 × 8, at the default 4 × 4 and at 2 × 2 nodes (F and its gradient at
-    // 8 × 8 throughout) converges to the same minimum; only the steps differ.
+    // Hessians at 8 × 8, at 4 × 4 and at 2 × 2 nodes throughout, and at the defaults (4 × 4,
+    // 3 × 3 far from the minimum), F and its gradient at 8 × 8 throughout, converges to the
+    // same minimum; only the steps differ.
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/fixtures/meshes/kiciak_trojnik3.obj"
     );
     let mesh = surfkit::mesh::io::read(std::path::Path::new(path)).unwrap();
-    let run = |hessian_nodes| {
+    let run = |hessian_nodes, far_hessian_nodes| {
         let options = FairOptions {
             representation: RepresentationOptions {
                 nodes: 8,
                 ..RepresentationOptions::default()
             },
             hessian_nodes,
+            far_hessian_nodes,
             ..FairOptions::default()
         };
         optimize(&mesh, &options).unwrap()
     };
-    let (exact, exact_report) = run(None);
+    let (exact, exact_report) = run(None, None);
     assert!(exact_report.newton.converged);
     let diagonal = {
         let (lo, hi) = exact.positions.iter().fold(
@@ -343,10 +345,18 @@ fn fair_optimize_hessians_at_fewer_nodes_reach_the_same_minimum() {
         );
         (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f64>().sqrt()
     };
-    for nodes in [4, 2] {
-        let (out, report) = run(Some(nodes));
+    let defaults = FairOptions::default();
+    for (nodes, far) in [
+        (4, 4),
+        (2, 2),
+        (
+            defaults.hessian_nodes.unwrap(),
+            defaults.far_hessian_nodes.unwrap(),
+        ),
+    ] {
+        let (out, report) = run(Some(nodes), Some(far));
         eprintln!(
-            "Hessians at {nodes}×{nodes}: F {:.12e} ({} iterations; 8×8: F {:.12e}, {})",
+            "Hessians at {nodes}×{nodes}, {far}×{far} far: F {:.12e} ({} iterations; 8×8: F {:.12e}, {})",
             report.final_terms.f,
             report.newton.iterations.len(),
             exact_report.final_terms.f,

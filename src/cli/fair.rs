@@ -17,7 +17,8 @@ use crate::fair::{
     write_bezier_patches, BlockOptions, CoarseStart, CoarseStartReport, EndCaps, FairMethod,
     FairOptions, FairReport, G2Surface, Iteration, LevelReport, LmMatrix, MeshTopology,
     NewtonOptions, QDomain, RepresentationOptions, ShapeChange, StepKind, SurfaceKind,
-    DEFAULT_C_SPECIAL, DEFAULT_C_SPECIAL_G2, DEFAULT_HESSIAN_NODES, DEFAULT_REGULARIZATION,
+    DEFAULT_C_SPECIAL, DEFAULT_C_SPECIAL_G2, DEFAULT_FAR_HESSIAN_NODES, DEFAULT_HESSIAN_NODES,
+    DEFAULT_REGULARIZATION,
 };
 use crate::limits::MemoryBudget;
 use crate::mesh::io::{read, write, WriteOptions};
@@ -83,6 +84,11 @@ pub struct FairArgs {
     /// fewer make each Hessian cheaper and the steps slightly inexact.
     #[arg(long, default_value_t = DEFAULT_HESSIAN_NODES)]
     pub hessian_nodes: usize,
+    /// Nodes per direction for the Hessians far from the minimum (from the start and after
+    /// Levenberg–Marquardt steps, whose damped steps gain nothing from a finer model), at
+    /// most --hessian-nodes.
+    #[arg(long, default_value_t = DEFAULT_FAR_HESSIAN_NODES)]
+    pub far_hessian_nodes: usize,
     /// Cᵢ of elements at special vertices (ordinary elements: 1). Default: 1 on the G²
     /// surface (the paper's Cᵢ = C, as the author's program); 0.01 on the Catmull–Clark
     /// surface, where at 1 the regularization pulls the mesh toward the special vertices.
@@ -353,6 +359,7 @@ fn options(args: &FairArgs, memory: MemoryBudget) -> FairOptions {
         max_refinements: args.max_refinements,
         regularization: args.regularization,
         hessian_nodes: Some(args.hessian_nodes),
+        far_hessian_nodes: Some(args.far_hessian_nodes),
         method: match args.method {
             MethodArg::Auto => FairMethod::Automatic,
             MethodArg::Plain => FairMethod::Plain,

@@ -43,8 +43,8 @@ pub use solvers::cholesky::{Factor, Factorizer};
 pub use solvers::coordinate_floor::{coordinate_floor, ulp};
 pub use solvers::levels::{optimize_levels, optimize_levels_observed, CoarseToFine, LevelReport};
 pub use solvers::newton::{
-    newton, newton_observed, newton_observed_with_hessians, Iteration, LmMatrix, NewtonOptions,
-    NewtonReport, StepKind, FLOOR_MARGIN,
+    newton, newton_observed, newton_observed_with_hessians, HessianSources, Iteration, LmMatrix,
+    NewtonOptions, NewtonReport, StepKind, FLOOR_MARGIN,
 };
 pub use solvers::pcg::{multiply, pcg, pcg_operator, CgOutcome, CgStop};
 pub use solvers::schwarz::Schwarz;
@@ -123,12 +123,16 @@ pub struct FairOptions {
     /// ([`DEFAULT_REGULARIZATION`] says why). Must be > 0: S alone does not fix the
     /// parameterization (its Hessian is singular along it).
     pub regularization: f64,
-    /// Gauss–Legendre nodes per direction for the Newton Hessians (plain method), when
-    /// fewer than `representation.nodes`: F and its gradient keep all the nodes (so does
-    /// the minimum), each Hessian costs (h / nodes)² as much, and the steps are slightly
+    /// Gauss–Legendre nodes per direction for the Newton Hessians, when fewer than
+    /// `representation.nodes`: F and its gradient keep all the nodes (so does the
+    /// minimum), each Hessian costs (h / nodes)² as much, and the steps are slightly
     /// inexact. The author's program does the same (Hessians at 6 × 6, F at 8 × 8).
     /// Default [`DEFAULT_HESSIAN_NODES`]; `None`: the Hessians use F's nodes.
     pub hessian_nodes: Option<usize>,
+    /// Nodes per direction for the Hessians far from the minimum, at most those of
+    /// `hessian_nodes` ([`HessianSources::far`]). Default [`DEFAULT_FAR_HESSIAN_NODES`];
+    /// `None`: those of `hessian_nodes`.
+    pub far_hessian_nodes: Option<usize>,
     /// How Newton's steps are solved (plain or multilevel; by size when automatic).
     pub method: FairMethod,
     /// Which solves start from the optimum of the un-subdivided mesh, refined (nested
@@ -239,6 +243,7 @@ impl Default for FairOptions {
             blocks: None,
             regularization: DEFAULT_REGULARIZATION,
             hessian_nodes: Some(DEFAULT_HESSIAN_NODES),
+            far_hessian_nodes: Some(DEFAULT_FAR_HESSIAN_NODES),
             method: FairMethod::Automatic,
             coarse_start: CoarseStart::Never,
         }
@@ -250,6 +255,14 @@ impl Default for FairOptions {
 /// 4 × 4 took the same Newton iterations as at 8 × 8 (10 and 10, 7 and 6, 10 and 12) to
 /// the same minimum, each at a quarter of the cost.
 pub const DEFAULT_HESSIAN_NODES: usize = 4;
+
+/// Most nodes per direction for the Hessians far from the minimum
+/// ([`HessianSources::far`]): at F's default 4 × 4, Hessians at 3 × 3 throughout took as
+/// many Hessians to the same F on raw tube junctions (2026-11-27: 14 399 vertices, plain,
+/// 9 and 9, 41.4 s against 56.2 s; 94 077 vertices, multilevel, 21 against 23), each at
+/// 9/16 of the cost — but slowed Newton's last steps on a small Catmull–Clark junction,
+/// hence only far from the minimum.
+pub const DEFAULT_FAR_HESSIAN_NODES: usize = 3;
 
 /// What [`optimize`] did.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -427,20 +440,40 @@ pub fn optimize_observed(
             None,
         ),
         None => {
-            let coarse = match options.hessian_nodes {
-                Some(nodes) if nodes < options.representation.nodes => Some(rep.with_options(
-                    &prepared,
-                    &topo.boundary,
-                    &special,
-                    &RepresentationOptions {
-                        nodes,
-                        ..options.representation.clone()
-                    },
-                )?),
-                _ => None,
+            // The representations of fewer nodes the Hessians come from (HessianSources).
+            let nodes = options.representation.nodes;
+            let near_nodes = options.hessian_nodes.unwrap_or(nodes).min(nodes);
+            let far_nodes = options.far_hessian_nodes.unwrap_or(nodes).min(near_nodes);
+            let with_nodes = |n: usize| -> Result<Option<SurfaceRepresentation>> {
+                (n < nodes)
+                    .then(|| {
+                        rep.with_options(
+                            &prepared,
+                            &topo.boundary,
+                            &special,
+                            &RepresentationOptions {
+                                nodes: n,
+                                ..options.representation.clone()
+                            },
+                        )
+                    })
+                    .transpose()
             };
-            let curvature = coarse.as_ref().map(|r| Functional::new(r, &fixed, weight));
-            let curvature = curvature.as_ref().unwrap_or(&functional);
+            let near_rep = with_nodes(near_nodes)?;
+            let far_rep = if far_nodes < near_nodes {
+                with_nodes(far_nodes)?
+            } else {
+                None
+            };
+            let near = near_rep
+                .as_ref()
+                .map(|r| Functional::new(r, &fixed, weight));
+            let far = far_rep.as_ref().map(|r| Functional::new(r, &fixed, weight));
+            let near = near.as_ref().unwrap_or(&functional);
+            let sources = HessianSources {
+                near,
+                far: far.as_ref().unwrap_or(near),
+            };
             let levels = multilevel_hierarchy(&prepared, &functional, options.method)?;
             check_solver_memory(
                 functional.free_count(),
@@ -482,7 +515,7 @@ pub fn optimize_observed(
                 }
                 Some(levels) => newton_with_solver(
                     &functional,
-                    curvature,
+                    sources,
                     &mut positions,
                     &newton_options,
                     MultilevelSolver::new(
@@ -494,7 +527,7 @@ pub fn optimize_observed(
                 )?,
                 None => newton_observed_with_hessians(
                     &functional,
-                    curvature,
+                    sources,
                     &mut positions,
                     &newton_options,
                     &mut |it| observe(it, g0),

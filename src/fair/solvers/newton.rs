@@ -283,12 +283,43 @@ struct Trial {
 /// A (possibly halved) Newton step: the point, its gradient and the kind of step.
 type NewtonStep = (Trial, Vec<f64>, StepKind);
 
+/// Where a run's Hessians come from: F's own functional, or the same F integrated with
+/// fewer quadrature nodes (each Hessian costs (h / n)² as much, the minimum is F's), as
+/// the author's program does (its Hessians at 6 × 6 nodes, F at 8 × 8).
+pub struct HessianSources<'a, 'r, R: Representation> {
+    /// For Newton's steps (after a Newton step).
+    pub near: &'a Functional<'r, R>,
+    /// Far from the minimum: at the start and after Levenberg–Marquardt steps, where most
+    /// Hessians of a run from a raw mesh go and the damped steps gain nothing from a more
+    /// accurate model. Not for Newton's last steps: with 3-node Hessians throughout, a
+    /// 53-vertex junction's Catmull–Clark surface (F at 4 nodes) converged at a rate of 0.7
+    /// a step and stopped at 1.9·10⁻⁹ ‖g₀‖ when F no longer changed.
+    pub far: &'a Functional<'r, R>,
+}
+
+impl<R: Representation> Clone for HessianSources<'_, '_, R> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<R: Representation> Copy for HessianSources<'_, '_, R> {}
+
+impl<'a, 'r, R: Representation> HessianSources<'a, 'r, R> {
+    /// F's own Hessians throughout.
+    pub fn own(functional: &'a Functional<'r, R>) -> Self {
+        HessianSources {
+            near: functional,
+            far: functional,
+        }
+    }
+}
+
 /// The evaluations one iteration may make, with their counters.
 struct Stepper<'a, 'r, R: Representation, S: StepSolver> {
     functional: &'a Functional<'r, R>,
-    /// Where the Hessians come from: `functional` itself, or the same F at fewer
-    /// quadrature nodes ([`newton_observed_with_hessians`]).
-    curvature: &'a Functional<'r, R>,
+    /// Where the Hessians come from ([`HessianSources`]).
+    sources: HessianSources<'a, 'r, R>,
     solver: S,
     report: NewtonReport,
     /// Hessian passes so far: the exact Hessian of pass k has key 2k, its Gauss–Newton
@@ -298,7 +329,7 @@ struct Stepper<'a, 'r, R: Representation, S: StepSolver> {
     forcing: f64,
 }
 
-impl<R: Representation, S: StepSolver> Stepper<'_, '_, R, S> {
+impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
     fn factor(&mut self, h: &BlockHessian, key: u64, nu: f64) -> Option<S::Ready> {
         let clock = Instant::now();
         let factored = self.solver.ready(h, key, nu);
@@ -328,14 +359,19 @@ impl<R: Representation, S: StepSolver> Stepper<'_, '_, R, S> {
         (trial, None)
     }
 
-    /// Whether the Hessians come from F's own quadrature (with F and its gradient).
-    fn hessians_have_f(&self) -> bool {
-        std::ptr::eq(self.curvature, self.functional)
+    /// The source of the Hessians far from the minimum or near it ([`HessianSources`]).
+    fn source(&self, far: bool) -> &'a Functional<'r, R> {
+        if far {
+            self.sources.far
+        } else {
+            self.sources.near
+        }
     }
 
-    fn hessians(&mut self, positions: &[[f64; 3]], kind: HessianKind) -> Hessians {
+    /// The Hessians of `kind` at `positions` from [`Self::source`].
+    fn hessians(&mut self, positions: &[[f64; 3]], kind: HessianKind, far: bool) -> Hessians {
         let clock = Instant::now();
-        let out = self.curvature.hessians(positions, kind);
+        let out = self.source(far).hessians(positions, kind);
         self.passes += 1;
         if out.exact.is_some() {
             self.report.hessian_evaluations += 1;
@@ -523,27 +559,30 @@ pub fn newton_observed<R: Representation>(
     options: &NewtonOptions,
     observe: &mut dyn FnMut(&Iteration) -> ControlFlow<()>,
 ) -> Result<NewtonReport> {
-    newton_observed_with_hessians(functional, functional, positions, options, observe)
+    newton_observed_with_hessians(
+        functional,
+        HessianSources::own(functional),
+        positions,
+        options,
+        observe,
+    )
 }
 
-/// [`newton_observed`] with the Hessians of `curvature` — the same F integrated with fewer
-/// quadrature nodes, as the author's program does (its Hessians at 6 × 6 nodes, F at
-/// 8 × 8) — and F and its gradient of `functional`: the minimum is `functional`'s, the
-/// Newton steps are slightly inexact (linear instead of quadratic convergence near it),
-/// each Hessian is cheaper.
+/// [`newton_observed`] with the Hessians of `sources` ([`HessianSources`]) and F and its
+/// gradient of `functional`: the minimum is `functional`'s.
 ///
 /// # Errors
-/// As [`newton`]; [`Error::InvalidInput`] if the two do not have the same unknowns.
-pub fn newton_observed_with_hessians<R: Representation>(
-    functional: &Functional<'_, R>,
-    curvature: &Functional<'_, R>,
+/// As [`newton`]; [`Error::InvalidInput`] if the sources do not have F's unknowns.
+pub fn newton_observed_with_hessians<'a, 'r, R: Representation>(
+    functional: &'a Functional<'r, R>,
+    sources: HessianSources<'a, 'r, R>,
     positions: &mut Vec<[f64; 3]>,
     options: &NewtonOptions,
     observe: &mut dyn FnMut(&Iteration) -> ControlFlow<()>,
 ) -> Result<NewtonReport> {
     newton_with_solver(
         functional,
-        curvature,
+        sources,
         positions,
         options,
         CholeskySolver(Factorizer::new(functional.free_count())),
@@ -568,15 +607,18 @@ pub(crate) fn forcing_term(last: f64, previous: f64, current: f64, target: f64) 
 ///
 /// # Errors
 /// As [`newton_observed_with_hessians`].
-pub(crate) fn newton_with_solver<R: Representation, S: StepSolver>(
-    functional: &Functional<'_, R>,
-    curvature: &Functional<'_, R>,
+pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
+    functional: &'a Functional<'r, R>,
+    sources: HessianSources<'a, 'r, R>,
     positions: &mut Vec<[f64; 3]>,
     options: &NewtonOptions,
     solver: S,
     observe: &mut dyn FnMut(&Iteration) -> ControlFlow<()>,
 ) -> Result<NewtonReport> {
-    if !functional.same_unknowns(curvature) {
+    if ![sources.near, sources.far]
+        .iter()
+        .all(|s| functional.same_unknowns(s))
+    {
         return Err(Error::InvalidInput(
             "Newton: the Hessians' functional has other unknowns than F's".into(),
         ));
@@ -588,7 +630,7 @@ pub(crate) fn newton_with_solver<R: Representation, S: StepSolver>(
     let g0 = norm(&g);
     let mut run = Stepper {
         functional,
-        curvature,
+        sources,
         solver,
         report: NewtonReport::new(terms, g0),
         passes: 0,
@@ -633,19 +675,19 @@ pub(crate) fn newton_with_solver<R: Representation, S: StepSolver>(
             // After a Levenberg–Marquardt step the next one is likely too, and so is the
             // first step from a raw mesh: the Hessian's Gauss–Newton part comes from the
             // same pass (about 1.2× the exact Hessian alone, see `HessianKind::Both`).
-            let kind = if options.lm_matrix == LmMatrix::GaussNewton
-                && matches!(
-                    run.report.iterations.last().map(|it| it.step),
-                    None | Some(StepKind::LevenbergMarquardt)
-                ) {
+            let far = matches!(
+                run.report.iterations.last().map(|it| it.step),
+                None | Some(StepKind::LevenbergMarquardt)
+            );
+            let kind = if options.lm_matrix == LmMatrix::GaussNewton && far {
                 HessianKind::Both
             } else {
                 HessianKind::Exact
             };
-            let hessians = run.hessians(positions, kind);
+            let hessians = run.hessians(positions, kind, far);
             // F and g at `positions` are known; the Hessians' pass has them again, from
             // the same quadrature unless the Hessians come from fewer nodes.
-            if run.hessians_have_f() {
+            if std::ptr::eq(run.source(far), functional) {
                 terms = hessians.terms;
                 g = hessians.gradient;
             }
@@ -667,7 +709,7 @@ pub(crate) fn newton_with_solver<R: Representation, S: StepSolver>(
                     (LmMatrix::GaussNewton, Some(gn)) => (gn, exact_key + 1),
                     (LmMatrix::GaussNewton, None) => {
                         let gn = run
-                            .hessians(positions, HessianKind::GaussNewton)
+                            .hessians(positions, HessianKind::GaussNewton, far)
                             .gauss_newton
                             .expect("asked for");
                         (gn, 2 * run.passes + 1)
