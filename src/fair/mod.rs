@@ -259,7 +259,8 @@ pub const DEFAULT_HESSIAN_NODES: usize = 4;
 /// Most nodes per direction for the Hessians far from the minimum
 /// ([`HessianSources::far`]): at F's default 4 × 4, Hessians at 3 × 3 throughout took as
 /// many Hessians to the same F on raw tube junctions (2026-11-27: 14 399 vertices, plain,
-/// 9 and 9, 41.4 s against 56.2 s; 94 077 vertices, multilevel, 21 against 23), each at
+/// 9 and 9, 41.4 s against 56.2 s; 94 077 vertices, multilevel, 21 against the 23 of an
+/// earlier session's run with 4-node Hessians), each at
 /// 9/16 of the cost — but slowed Newton's last steps on a small Catmull–Clark junction,
 /// hence only far from the minimum.
 pub const DEFAULT_FAR_HESSIAN_NODES: usize = 3;
