@@ -1,7 +1,8 @@
 """Plain Newton against the multilevel method on large tube junctions (issue 18): `surfkit
 fair` from the raw refined junction, one process per size and method, with its wall time,
-peak RSS (from wait4), Hessians (the fine level's + the coarse stage's the multilevel
-method starts from), conjugate-gradient iterations, the fine Cholesky factors ("LLt") the
+peak RSS (from wait4), Hessian passes (the fine level's exact Hessians + its passes of the
+Gauss–Newton part alone + the coarse stage's Hessians the multilevel method starts from),
+conjugate-gradient iterations, the fine Cholesky factors ("LLt") the
 multilevel method fell back to where its V-cycle stagnated, the gradient reduction reached
 (against the input's gradient) and F there (the five-tube junctions have several local
 minima), the two methods side by side, then the issue's goals.
@@ -70,9 +71,12 @@ class Run:
         floor = newton.get("coordinate_floor")
         floor_cell = f"{floor / g0:.1e}" if floor else "   -   "
         mark = "*" if self.at_floor else " "
-        hessians = f"{newton['hessian_evaluations']}+{coarse_hessians(self.report)}"
+        gauss_newton_only = newton.get("gauss_newton_only_evaluations", 0)
+        hessians = (
+            f"{newton['hessian_evaluations']}+{gauss_newton_only}+{coarse_hessians(self.report)}"
+        )
         return (
-            f"{self.wall:9.1f}  {self.peak_gb:5.2f}  {hessians:>6}"
+            f"{self.wall:9.1f}  {self.peak_gb:5.2f}  {hessians:>11}"
             f"  {newton['cg_iterations']:5}  {newton['fine_factorizations']:3}  {ratio:.1e}{mark}"
             f" {floor_cell}"
             f"  {self.report['final_terms']['f']:10.4f}"
@@ -128,7 +132,7 @@ def main() -> None:
         f"junctions, {os.cpu_count()} cores, tolerance 1e-8, timeout {args.timeout:.0f} s "
         f"(plain: {timeouts['plain']:.0f} s), coarse start: {args.coarse_start}"
     )
-    header = "    wall s  peak GB  H+coarse  CG  LLt  |g|/|g0|  floor   F reached"
+    header = "    wall s  peak GB  H+GN+coarse  CG  LLt  |g|/|g0|  floor   F reached"
     print("size   vertices   free  " + "  ".join(f"{m:>10}:{header}" for m in methods))
     results: dict[str, dict[str, Run]] = {}
     vertices: dict[str, int] = {}

@@ -18,7 +18,7 @@ use crate::fair::{
     FairOptions, FairReport, G2Surface, Iteration, LevelReport, LmMatrix, MeshTopology,
     NewtonOptions, QDomain, RepresentationOptions, ShapeChange, StepKind, SurfaceKind,
     DEFAULT_C_SPECIAL, DEFAULT_C_SPECIAL_G2, DEFAULT_FAR_HESSIAN_NODES, DEFAULT_HESSIAN_NODES,
-    DEFAULT_REGULARIZATION,
+    DEFAULT_REGULARIZATION, NEWTON_AFTER_DECREASE,
 };
 use crate::limits::MemoryBudget;
 use crate::mesh::io::{read, write, WriteOptions};
@@ -165,6 +165,11 @@ pub struct FairArgs {
     /// the Levenberg–Marquardt search (0: straight to the search, as the paper).
     #[arg(long, default_value_t = 4)]
     pub newton_halvings: usize,
+    /// After a Levenberg–Marquardt step that lowered F by more than this fraction of it,
+    /// search the trajectory again from the Hessian's Gauss–Newton part alone, without the
+    /// exact Hessian and its Newton trial (1: always try Newton, as the paper).
+    #[arg(long, default_value_t = NEWTON_AFTER_DECREASE)]
+    pub newton_after_decrease: f64,
     /// Coarse-to-fine (paper §6): optimize the input, then this many times refine its
     /// surface (Catmull–Clark dropping the boundary ring, as `gen tubes --refine`) and
     /// optimize again from the refined optimum; writes the finest level. The finest problem
@@ -378,6 +383,7 @@ fn options(args: &FairArgs, memory: MemoryBudget) -> FairOptions {
         options.newton.lm_matrix = LmMatrix::Exact;
     }
     options.newton.newton_halvings = args.newton_halvings;
+    options.newton.newton_after_decrease = args.newton_after_decrease;
     options.blocks = args.blocks.map(|count| BlockOptions {
         count,
         overlap: args.overlap,
@@ -560,7 +566,7 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
         println!(
             "{} → {}: {} vertices ({} free, {} refinements), S {:.6e} → {:.6e} (before/after \
              {:.2}), std H {:.4e} → {:.4e}, F {:.6e} → {:.6e}, |g| {:.3e} → {:.3e}, {} \
-             iterations, {} Hessians, {seconds:.1} s{}",
+             iterations, {} Hessians{}, {seconds:.1} s{}",
             args.input.display(),
             args.output.display(),
             report.vertices,
@@ -577,6 +583,10 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
             report.final_gradient_norm,
             n.iterations.len(),
             n.hessian_evaluations,
+            match n.gauss_newton_only_evaluations {
+                0 => String::new(),
+                k => format!(" (+ {k} Gauss–Newton parts alone)"),
+            },
             n.status_note()
         );
         if report.method == FairMethod::Multilevel {
