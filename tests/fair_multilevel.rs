@@ -133,14 +133,17 @@ fn fair_multilevel_needs_a_coarser_level() {
     assert!(err.contains("use the plain method"), "{err}");
 }
 
-/// `surfkit fair --json --max-iterations 1` on the junction refined `refine` times: the
-/// method the automatic choice took, the free vertices and the levels.
-fn automatic_choice(refine: u32) -> (String, usize, Vec<usize>) {
+/// `surfkit fair --json --max-iterations 1` on the junction of `size` quads a sector side
+/// refined `refine` times: the method the automatic choice took, the free vertices and the
+/// levels.
+fn automatic_choice(size: u32, refine: u32) -> (String, usize, Vec<usize>) {
     let dir = tempfile::tempdir().unwrap();
     let (mesh, out) = (dir.path().join("t.obj"), dir.path().join("o.obj"));
     let exe = env!("CARGO_BIN_EXE_surfkit");
     let status = Command::new(exe)
-        .args(["gen", "tubes", "--size", "8", "--rings", "2", "--refine"])
+        .args(["gen", "tubes", "--rings", "2", "--size"])
+        .arg(size.to_string())
+        .arg("--refine")
         .arg(refine.to_string())
         .arg("-o")
         .arg(&mesh)
@@ -187,10 +190,12 @@ fn automatic_choice(refine: u32) -> (String, usize, Vec<usize>) {
 
 #[test]
 fn fair_multilevel_is_chosen_automatically_for_large_refined_meshes() {
-    let (method, free, sizes) = automatic_choice(1);
-    assert!(free < MULTILEVEL_FREE_VERTICES);
+    // Small: a refinement with a coarser level (more than the 2000 free vertices a coarse
+    // level needs), below the threshold.
+    let (method, free, sizes) = automatic_choice(7, 1);
+    assert!(free > 2000 && free < MULTILEVEL_FREE_VERTICES, "{free}");
     assert_eq!((method.as_str(), sizes.len()), ("plain", 0));
-    let (method, free, sizes) = automatic_choice(3);
+    let (method, free, sizes) = automatic_choice(8, 3);
     assert_eq!(free, 54143);
     assert!(free >= MULTILEVEL_FREE_VERTICES);
     assert_eq!(method, "multilevel");

@@ -45,7 +45,7 @@ impl SurfaceArg {
 /// `--method`.
 #[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MethodArg {
-    /// Multilevel from 30 000 free vertices when the mesh is a refinement, else plain.
+    /// Multilevel from 3000 free vertices when the mesh is a refinement, else plain.
     Auto,
     /// A sparse Cholesky factor of every Hessian (paper §5).
     Plain,

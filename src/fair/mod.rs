@@ -177,14 +177,15 @@ pub enum FairMethod {
     Multilevel,
 }
 
-/// The size from which [`FairMethod::Automatic`] takes the multilevel method, by
-/// `benches/fair_ceiling.py` (G² surface, 2026-11-26, before the fine-factor fallback): at
-/// 54 143 free vertices it took 157.6 s against the plain method's 464.8 s; below, the two
-/// were close (three tubes, 13 247 free: 38.0 s against 45.5 s) and the plain method won
-/// on the five-tube junction (22 077 free: 188.1 s against 221.6 s). With the fallback
-/// the two are level there (149.6 s against 157.3 s, single runs of a later session); the
-/// threshold has not been re-measured since.
-pub const MULTILEVEL_FREE_VERTICES: usize = 30_000;
+/// The size from which [`FairMethod::Automatic`] takes the multilevel method: the smallest
+/// refined junction measured, where it was already faster. `benches/fair_ceiling.py`
+/// (2026-11-27, raw junctions, both surfaces) has it ahead at 13 247, 22 077 and 54 143
+/// free vertices, at the same minima (G²: 24.5 s against 31.0 s, 83.1 against 139.1,
+/// 116.6 against 318.2); single runs of `surfkit fair` on the three-tube junction refined
+/// once (3167 free, the same session): 5.4 s against 8.5 s (G²), 5.2 against 8.3
+/// (Catmull–Clark), F the same to 10⁻¹². Below 2000 free vertices there is no coarser
+/// level; between 2000 and 3000 nothing was measured.
+pub const MULTILEVEL_FREE_VERTICES: usize = 3000;
 
 /// Peak resident memory of a method: `base` + `per_free_vertex` · free vertices, the
 /// representation included. Checked against the memory budget before the solver's

@@ -127,7 +127,7 @@ pub struct NewtonReport {
     /// in one pass) for the Levenberg–Marquardt search ([`LmMatrix::GaussNewton`]).
     pub gauss_newton_evaluations: usize,
     /// Of those, the passes that evaluated the Gauss–Newton part alone (no exact Hessian,
-    /// [`NewtonOptions::newton_after_nu`]): each costs less than a Hessian.
+    /// [`NewtonOptions::newton_after_decrease`]): about half a pass of both.
     pub gauss_newton_only_evaluations: usize,
     /// Matrices H + νI readied for solves (Newton and Levenberg–Marquardt trials): numeric
     /// Cholesky factorizations (plain method), multigrid set-ups with a factorization of
@@ -740,6 +740,8 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
                 let (h, key) = match (options.lm_matrix, gauss_newton, exact) {
                     (LmMatrix::Exact, _, Some(h)) => (h, exact_key),
                     (LmMatrix::GaussNewton, Some(gn), _) => (gn, exact_key + 1),
+                    // A pass of the exact Hessian alone (near the minimum); the paper's
+                    // trajectory always has its exact Hessian.
                     _ => {
                         let gn = run
                             .hessians(positions, HessianKind::GaussNewton, far)
