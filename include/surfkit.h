@@ -84,10 +84,11 @@
 /*
  The version of the C ABI: bumped whenever a declaration of `surfkit.h` changes
  incompatibly (2: `SurfkitEatOptions.check_fixes` and `SurfkitFlaw.fix_verified`; 3:
- `SurfkitFairOptions.method` and `SurfkitFairSummary.method`). Compare with
- [`surfkit_abi_version`] at run time.
+ `SurfkitFairOptions.method` and `SurfkitFairSummary.method`; 4:
+ `SurfkitFairOptions.coarse_start`, `SurfkitFairSummary.coarse_stage` and
+ `coarse_start_used`). Compare with [`surfkit_abi_version`] at run time.
  */
-#define SURFKIT_ABI_VERSION 3
+#define SURFKIT_ABI_VERSION 4
 
 /*
  Success.
@@ -368,6 +369,14 @@ typedef struct SurfkitFairOptions {
    */
   int method;
   /*
+   Non-zero: the multilevel method starts from the optimum of the mesh the input
+   un-subdivides to, refined (nested iteration, `surfkit fair --coarse-start`): faster on
+   the junctions measured, but it may end in another local minimum. Not used with fixed
+   vertices given (their ids name fine vertices) nor by the plain method. 0 (the
+   default): from the input.
+   */
+  int coarse_start;
+  /*
    `fixed_count` more fixed vertices (ids of the input mesh).
    */
   const uint32_t *fixed;
@@ -388,6 +397,12 @@ typedef struct SurfkitFairSummary {
    The method that ran ([`SURFKIT_METHOD_PLAIN`] or [`SURFKIT_METHOD_MULTILEVEL`]).
    */
   int method;
+  /*
+   Non-zero when the coarse stage ran (`SurfkitFairOptions::coarse_start`), and when the
+   fine iteration started from its optimum (not when F there was above the input's).
+   */
+  int coarse_stage;
+  int coarse_start_used;
   int converged;
   int cancelled;
   /*

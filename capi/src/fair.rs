@@ -7,7 +7,8 @@ use std::ffi::{c_char, c_int, c_void, CString};
 use std::ops::ControlFlow;
 
 use surfkit::fair::{
-    optimize_observed, FairMethod, FairOptions, FairReport, Iteration, StepKind, SurfaceKind,
+    optimize_observed, CoarseStart, FairMethod, FairOptions, FairReport, Iteration, StepKind,
+    SurfaceKind,
 };
 
 use crate::mesh::SurfkitMesh;
@@ -77,6 +78,12 @@ pub struct SurfkitFairOptions {
     /// How Newton's steps are solved: [`SURFKIT_METHOD_AUTO`], [`SURFKIT_METHOD_PLAIN`] or
     /// [`SURFKIT_METHOD_MULTILEVEL`].
     pub method: c_int,
+    /// Non-zero: the multilevel method starts from the optimum of the mesh the input
+    /// un-subdivides to, refined (nested iteration, `surfkit fair --coarse-start`): faster on
+    /// the junctions measured, but it may end in another local minimum. Not used with fixed
+    /// vertices given (their ids name fine vertices) nor by the plain method. 0 (the
+    /// default): from the input.
+    pub coarse_start: c_int,
     /// `fixed_count` more fixed vertices (ids of the input mesh).
     pub fixed: *const u32,
     pub fixed_count: usize,
@@ -103,6 +110,7 @@ pub unsafe extern "C" fn surfkit_fair_options_default(options: *mut SurfkitFairO
             c_special: d.representation.c_special,
             regularization: d.regularization,
             method: SURFKIT_METHOD_AUTO,
+            coarse_start: 0,
             fixed: std::ptr::null(),
             fixed_count: 0,
             callback: None,
@@ -120,6 +128,10 @@ pub struct SurfkitFairSummary {
     pub surface: c_int,
     /// The method that ran ([`SURFKIT_METHOD_PLAIN`] or [`SURFKIT_METHOD_MULTILEVEL`]).
     pub method: c_int,
+    /// Non-zero when the coarse stage ran (`SurfkitFairOptions::coarse_start`), and when the
+    /// fine iteration started from its optimum (not when F there was above the input's).
+    pub coarse_stage: c_int,
+    pub coarse_start_used: c_int,
     pub converged: c_int,
     pub cancelled: c_int,
     /// Stopped without converging where steps no longer decrease F or the gradient.
@@ -199,6 +211,11 @@ unsafe fn fair_options(o: &SurfkitFairOptions) -> Result<FairOptions, Failure> {
                  SURFKIT_METHOD_MULTILEVEL (2)"
             )))
         }
+    };
+    options.coarse_start = if o.coarse_start != 0 {
+        CoarseStart::Multilevel
+    } else {
+        CoarseStart::Never
     };
     options.representation.isolation = o.isolation;
     options.representation.nodes = o.nodes as usize;
@@ -299,6 +316,8 @@ pub unsafe extern "C" fn surfkit_fair_report_summary(
                 FairMethod::Multilevel => SURFKIT_METHOD_MULTILEVEL,
                 FairMethod::Plain | FairMethod::Automatic => SURFKIT_METHOD_PLAIN,
             },
+            coarse_stage: r.coarse_start.is_some() as c_int,
+            coarse_start_used: r.coarse_start.as_ref().is_some_and(|s| s.used) as c_int,
             converged: n.converged as c_int,
             cancelled: (n.cancelled || r.warm_start.as_ref().is_some_and(|w| w.cancelled)) as c_int,
             stuck: n.stuck as c_int,

@@ -7,9 +7,10 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// The version of the C ABI: bumped whenever a declaration of `surfkit.h` changes
 /// incompatibly (2: `SurfkitEatOptions.check_fixes` and `SurfkitFlaw.fix_verified`; 3:
-/// `SurfkitFairOptions.method` and `SurfkitFairSummary.method`). Compare with
-/// [`surfkit_abi_version`] at run time.
-pub const SURFKIT_ABI_VERSION: c_int = 3;
+/// `SurfkitFairOptions.method` and `SurfkitFairSummary.method`; 4:
+/// `SurfkitFairOptions.coarse_start`, `SurfkitFairSummary.coarse_stage` and
+/// `coarse_start_used`). Compare with [`surfkit_abi_version`] at run time.
+pub const SURFKIT_ABI_VERSION: c_int = 4;
 
 /// Success.
 pub const SURFKIT_OK: c_int = 0;

@@ -550,6 +550,10 @@ struct FairOptions {
   /// SURFKIT_METHOD_AUTO (by size, the default), SURFKIT_METHOD_PLAIN or
   /// SURFKIT_METHOD_MULTILEVEL (`surfkit fair --method`).
   int method = SURFKIT_METHOD_AUTO;
+  /// The multilevel method starts from the optimum of the mesh this one un-subdivides to,
+  /// refined (`surfkit fair --coarse-start`): faster on the junctions measured, but it may
+  /// end in another local minimum. Not used when vertices are fixed (below).
+  bool coarse_start = false;
   /// More fixed vertices; also fixed: locked vertices (mesh.status(vh).locked()) and those
   /// whose bool vertex property named `fixed_property` is true.
   std::vector<OpenMesh::VertexHandle> fixed;
@@ -572,6 +576,9 @@ struct FairReport {
   int surface = SURFKIT_SURFACE_G2;
   /// The method that ran (SURFKIT_METHOD_PLAIN or SURFKIT_METHOD_MULTILEVEL).
   int method = SURFKIT_METHOD_PLAIN;
+  /// Whether the coarse stage ran (FairOptions::coarse_start) and the fine iteration started
+  /// from its optimum (not when F there was above the mesh's own).
+  bool coarse_stage = false, coarse_start_used = false;
   std::string json;
 };
 
@@ -632,6 +639,7 @@ FairReport fair(Mesh& mesh, const FairOptions& options = FairOptions{}) {
   if (options.c_special != 0) o.c_special = options.c_special;
   if (options.regularization != 0) o.regularization = options.regularization;
   o.method = options.method;
+  o.coarse_start = options.coarse_start ? 1 : 0;
   o.fixed = fixed.data();
   o.fixed_count = fixed.size();
   detail::ProgressBridge bridge{&options.progress, nullptr};
@@ -673,6 +681,8 @@ FairReport fair(Mesh& mesh, const FairOptions& options = FairOptions{}) {
   r.coordinate_floor = s.coordinate_floor;
   r.surface = s.surface;
   r.method = s.method;
+  r.coarse_stage = s.coarse_stage != 0;
+  r.coarse_start_used = s.coarse_start_used != 0;
   const char* json = nullptr;
   detail::check(surfkit_fair_report_json(raw.get(), &json));
   r.json = json;

@@ -7,7 +7,7 @@ use std::ops::ControlFlow;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use surfkit::fair::{
-    optimize_observed, FairMethod, FairOptions, Iteration, RepresentationOptions,
+    optimize_observed, CoarseStart, FairMethod, FairOptions, Iteration, RepresentationOptions,
 };
 
 use crate::errors::{to_py, InvalidInput};
@@ -18,7 +18,7 @@ use crate::mesh::Mesh;
 /// return stops the run (the positions reached are returned, the report says `cancelled`),
 /// an exception stops it and is raised once the run has ended.
 #[pyfunction]
-#[pyo3(signature = (mesh, *, fixed, boundary_rings, max_refinements, relative_gradient, max_iterations, surface, isolation, nodes, c_special, regularization, method, callback))]
+#[pyo3(signature = (mesh, *, fixed, boundary_rings, max_refinements, relative_gradient, max_iterations, surface, isolation, nodes, c_special, regularization, method, coarse_start, callback))]
 #[allow(clippy::too_many_arguments)]
 // Each argument is a keyword argument of the Python function.
 pub fn fair_json(
@@ -35,6 +35,7 @@ pub fn fair_json(
     c_special: Option<f64>,
     regularization: Option<f64>,
     method: Option<String>,
+    coarse_start: Option<bool>,
     callback: Option<Py<PyAny>>,
 ) -> PyResult<(Mesh, String)> {
     let input = &mesh.mesh;
@@ -103,6 +104,9 @@ pub fn fair_json(
             )))
         }
     };
+    if coarse_start == Some(true) {
+        options.coarse_start = CoarseStart::Multilevel;
+    }
     if let Some(r) = relative_gradient {
         if !(r > 0.0 && r < 1.0) {
             return Err(InvalidInput::new_err(format!(

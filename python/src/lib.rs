@@ -8,6 +8,7 @@ mod eat;
 mod errors;
 mod fair;
 mod fit;
+mod limits;
 mod mesh;
 mod registry;
 mod subdiv;
@@ -26,6 +27,8 @@ fn _surfkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit::fit_spline, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit_parallel, m)?)?;
     m.add_class::<fit::Spline>()?;
+    m.add_function(wrap_pyfunction!(limits::set_max_memory, m)?)?;
+    m.add_function(wrap_pyfunction!(limits::max_memory, m)?)?;
     errors::register(m)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // The names flaws carry in "kind", in the CLI's order.

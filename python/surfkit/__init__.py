@@ -16,7 +16,8 @@ integer array, a list of polygons of any arity, or an ``(indices, offsets)`` pai
   (2004: parallelism conditions), each a ``Spline`` to evaluate.
 
 Errors raise ``surfkit.SurfkitError`` subclasses carrying the message of the Rust library;
-the GIL is released during the work.
+the GIL is released during the work. ``surfkit.set_max_memory`` sets the memory limit work
+is checked against before it allocates (``ResourceLimit`` beyond it).
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ from surfkit._surfkit import (
     TopologyError,
     __version__,
     eat_json,
+    max_memory,
     read_mesh,
 )
 
@@ -58,7 +60,9 @@ __all__ = [
     "fit",
     "fit_parallel",
     "limit",
+    "max_memory",
     "read_mesh",
+    "set_max_memory",
     "subdivide",
 ]
 
@@ -351,6 +355,7 @@ def fair(
     c_special: float | None = None,
     regularization: float | None = None,
     method: str | None = None,
+    coarse_start: bool = False,
 ) -> tuple[Mesh, dict[str, Any]]:
     """Kiciak's shape optimization of a control mesh, as ``surfkit fair`` (options left at
     None keep its defaults). ``surface`` is ``"g2"`` (the default: the paper's
@@ -358,7 +363,12 @@ def fair(
     ``report["surface"]`` names the one optimized. ``regularization`` is C in
     F = S + C·c·Q (``surfkit fair --regularization``). ``method`` is ``"auto"`` (the
     default: by size), ``"plain"`` or ``"multilevel"`` (``surfkit fair --method``);
-    ``report["method"]`` names the one that ran.
+    ``report["method"]`` names the one that ran. ``coarse_start=True`` starts the
+    multilevel method from the optimum of the mesh the input un-subdivides to, refined
+    (``surfkit fair --coarse-start``): faster on the junctions measured, but it may end in
+    another local minimum; not used with ``fixed`` vertices. ``report["coarse_start"]``
+    is that stage's report (``used``: whether the fine iteration started there), None when
+    it did not run.
 
     Returns the optimized mesh (the input's topology and vertex order unless the method had
     to refine it, see ``report["refinements"]``) and the report, whose ``log`` lists every
@@ -384,6 +394,7 @@ def fair(
         c_special=c_special,
         regularization=regularization,
         method=method,
+        coarse_start=coarse_start,
         callback=callback,
     )
     report = json.loads(text)
@@ -391,6 +402,16 @@ def fair(
     stages.append(report["newton"])
     report["log"] = [it for stage in stages for it in stage["iterations"]]
     return optimized, report
+
+
+def set_max_memory(size: int | str | None) -> None:
+    """Sets the memory limit of this process's surfkit calls, as ``surfkit fair
+    --max-memory`` and the C door's ``surfkit_set_max_memory``: bytes (at least 1 MiB), a
+    size such as ``"512M"`` or ``"12G"`` (binary units), or None for the default, half of
+    the machine's memory. Work whose planned size passes it (a fairing problem's solver, a
+    subdivision's levels) raises ``ResourceLimit``, naming its size and what fits, before
+    it allocates. Calls already running keep their limit."""
+    _surfkit.set_max_memory(size)
 
 
 class Spline:

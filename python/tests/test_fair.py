@@ -97,22 +97,86 @@ def test_the_callback_stops_the_run(tubes: Path):
     assert report["final_terms"]["f"] < report["newton"]["initial"]["f"]
 
 
-def test_the_method_is_chosen_by_keyword(cli: Path, tmp_path: Path):
-    # The junction refined once (3743 vertices, 3167 free; one coarser level): both methods
-    # reach the same minimum, and the report names the one that ran.
-    path = tmp_path / "refined.obj"
+@pytest.fixture(scope="module")
+def refined(cli: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The junction refined once (3743 vertices, 3167 free; one coarser level)."""
+    path = tmp_path_factory.mktemp("fair") / "refined.obj"
     subprocess.run(
         [cli, "gen", "tubes", "--size", "8", "--rings", "2", "--refine", "1", "--output", path],
         check=True,
         capture_output=True,
     )
-    mesh = surfkit.read_mesh(path)
+    return path
+
+
+def test_the_method_is_chosen_by_keyword(refined: Path):
+    # Both methods reach the same minimum, and the report names the one that ran.
+    mesh = surfkit.read_mesh(refined)
     _, plain = surfkit.fair(mesh, method="plain", max_refinements=0)
     _, multilevel = surfkit.fair(mesh, method="multilevel", max_refinements=0)
     assert (plain["method"], multilevel["method"]) == ("plain", "multilevel")
     assert multilevel["multilevel_sizes"] == [3167, 911]
     assert plain["newton"]["converged"] and multilevel["newton"]["converged"]
     assert multilevel["final_terms"]["f"] == pytest.approx(plain["final_terms"]["f"], rel=1e-9)
+    assert plain["coarse_start"] is None and multilevel["coarse_start"] is None
+
+
+def test_the_coarse_start_is_the_cli_coarse_start(refined: Path, cli: Path, tmp_path: Path):
+    run = subprocess.run(
+        [cli, "fair", refined, "-o", tmp_path / "o.obj", "--max-refinements", "0"]
+        + ["--method", "multilevel", "--coarse-start", "--json"],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    theirs = json.loads(run.stdout)["report"]
+    _, report = surfkit.fair(
+        surfkit.read_mesh(refined), method="multilevel", max_refinements=0, coarse_start=True
+    )
+    stage, their_stage = report["coarse_start"], theirs["coarse_start"]
+    assert stage is not None and their_stage is not None
+    # The coarse problem: the mesh the junction un-subdivides to (911 vertices, the
+    # multilevel method's coarse level), optimized alone.
+    assert stage["report"]["vertices"] == their_stage["report"]["vertices"] == 911
+    assert stage["used"] == their_stage["used"]
+    assert stage["start_f"] == pytest.approx(their_stage["start_f"], rel=1e-9)
+    assert report["newton"]["converged"] and theirs["newton"]["converged"]
+    assert report["final_terms"]["f"] == pytest.approx(theirs["final_terms"]["f"], rel=1e-9)
+
+
+def test_the_memory_limit_is_the_cli_max_memory(refined: Path, cli: Path, tmp_path: Path):
+    # The default is half of the machine's memory (MemTotal of /proc/meminfo).
+    meminfo = Path("/proc/meminfo").read_text()
+    total_kib = int(
+        next(line for line in meminfo.splitlines() if line.startswith("MemTotal:")).split()[1]
+    )
+    assert surfkit.max_memory() == total_kib * 1024 // 2
+    run = subprocess.run(
+        [cli, "fair", refined, "-o", tmp_path / "o.obj", "--max-refinements", "0"]
+        + ["--method", "plain", "--max-memory", "400M"],
+        check=False,
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode != 0 and not (tmp_path / "o.obj").exists()
+    mesh = surfkit.read_mesh(refined)
+    try:
+        surfkit.set_max_memory("400M")
+        assert surfkit.max_memory() == 400 << 20
+        with pytest.raises(surfkit.ResourceLimit) as refused:
+            surfkit.fair(mesh, method="plain", max_refinements=0)
+        surfkit.set_max_memory(400 << 20)
+        assert surfkit.max_memory() == 400 << 20
+    finally:
+        surfkit.set_max_memory(None)
+    message = str(refused.value)
+    assert "fairing 3167 free vertices" in message and "memory limit of 400 MiB" in message
+    assert message in run.stderr
+    assert surfkit.max_memory() == total_kib * 1024 // 2
+    for bad, says in ((1000, "at least 1 MiB"), ("12Q", "unknown unit"), (1.5, "give bytes")):
+        with pytest.raises(surfkit.InvalidInput, match=says):
+            surfkit.set_max_memory(bad)
+    assert surfkit.max_memory() == total_kib * 1024 // 2
 
 
 def test_an_exception_in_the_callback_is_raised(tubes: Path):

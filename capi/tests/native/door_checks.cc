@@ -348,6 +348,26 @@ static void memory_limit() {
   surfkit_mesh_free(m);
 }
 
+/// The coarse start through the C++ layer: the 64 × 64 grid is the refinement of a 32 × 32
+/// one and has 3481 free vertices, a size for the multilevel method. The coarse stage runs
+/// when asked (the report says so, in its summary and its JSON), not by default, and not
+/// when a vertex is fixed (fixed ids name fine vertices).
+static void coarse_start_option() {
+  for (int variant = 0; variant < 3; ++variant) {
+    Mesh m = grid(64, 0.5f);
+    surfkit::FairOptions options;
+    options.method = SURFKIT_METHOD_MULTILEVEL;
+    options.max_iterations = 1;
+    options.coarse_start = variant != 0;
+    if (variant == 2) options.fixed.push_back(m.vertex_handle(int(m.n_vertices() / 2)));
+    surfkit::FairReport r = surfkit::fair(m, options);
+    EXPECT(r.method == SURFKIT_METHOD_MULTILEVEL && r.free_vertices == (variant == 2 ? 3480u : 3481u));
+    EXPECT(r.coarse_stage == (variant == 1));
+    EXPECT(!r.coarse_start_used || r.coarse_stage);
+    EXPECT((r.json.find("\"coarse_start\":{") != std::string::npos) == (variant == 1));
+  }
+}
+
 int main() {
   EXPECT(surfkit_abi_version() == SURFKIT_ABI_VERSION);
   EXPECT(std::strlen(surfkit_version()) > 0);
@@ -357,6 +377,7 @@ int main() {
   deleted_elements();
   cycles();
   memory_limit();
+  coarse_start_option();
   std::cout << "ok: " << checks << " checks" << std::endl;
   return 0;
 }

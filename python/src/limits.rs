@@ -1,0 +1,42 @@
+//! The process's memory limit, as the C door's `surfkit_set_max_memory` and the CLI's
+//! `--max-memory`: work whose planned size passes it (a fairing problem's solver, a
+//! subdivision's levels) raises `ResourceLimit` before it allocates.
+
+use pyo3::prelude::*;
+use surfkit::limits::{set_process_budget, MemoryBudget};
+
+use crate::errors::InvalidInput;
+
+/// Sets the limit: bytes (at least 1 MiB), a size such as "512M" or "12G", or None for
+/// the default, half of the machine's memory.
+#[pyfunction]
+#[pyo3(signature = (size))]
+pub fn set_max_memory(size: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+    let budget = match size {
+        None => None,
+        Some(value) => Some(if let Ok(text) = value.extract::<String>() {
+            MemoryBudget::parse(&text).map_err(InvalidInput::new_err)?
+        } else {
+            let bytes: u64 = value.extract().map_err(|_| {
+                InvalidInput::new_err(format!(
+                    "a memory limit of {value}: give bytes (an int), a size such as \"12G\", \
+                     or None"
+                ))
+            })?;
+            if bytes < 1 << 20 {
+                return Err(InvalidInput::new_err(format!(
+                    "a memory limit of {bytes} bytes: it must be at least 1 MiB"
+                )));
+            }
+            MemoryBudget::bytes(bytes)
+        }),
+    };
+    set_process_budget(budget);
+    Ok(())
+}
+
+/// The limit in force, in bytes.
+#[pyfunction]
+pub fn max_memory() -> u64 {
+    MemoryBudget::default().get()
+}
