@@ -9,14 +9,14 @@ minima), the two methods side by side, then the issue's goals.
 
     .venv/bin/python benches/fair_ceiling.py [SIZE ...] [--surface g2|catmull-clark]
         [--methods plain,multilevel] [--timeout SECONDS] [--plain-timeout SECONDS]
-        [--coarse-start]
+        [--coarse-start] [--reports DIR]
 
 SIZE is t3r2 (14 399 vertices), t5r2 (23 997), t3r3 (56 447), t5r3 (94 077) or t3r4
 (223 487); default all five. A run longer than --timeout (default 2700 s, the issue's 45
 minutes) is stopped and shown as "> T"; --plain-timeout (default: --timeout) stops the
 plain method's runs sooner, so that one run of all sizes fits in an evening.
 --coarse-start gives the multilevel method's runs `surfkit fair --coarse-start` (nested
-iteration). No peer runs in the same process: BSTools's
+iteration). --reports DIR keeps every run's JSON report, its iterations included. No peer runs in the same process: BSTools's
 multilevel method is documented at 72 009 free vertices in about 6 h 20 min (not measured
 here).
 """
@@ -124,7 +124,15 @@ def main() -> None:
     parser.add_argument("--timeout", type=float, default=2700.0)
     parser.add_argument("--plain-timeout", type=float, default=None)
     parser.add_argument("--coarse-start", action="store_true")
+    parser.add_argument(
+        "--reports",
+        type=Path,
+        default=None,
+        help="folder for every run's JSON report (<size>-<method>.json: its iterations)",
+    )
     args = parser.parse_args()
+    if args.reports:
+        args.reports.mkdir(parents=True, exist_ok=True)
     timeouts = {"plain": args.plain_timeout or args.timeout}
     methods = args.methods.split(",")
     print(
@@ -153,6 +161,9 @@ def main() -> None:
                     + (["--coarse-start"] if args.coarse_start and method != "plain" else []),
                     timeouts.get(method, args.timeout),
                 )
+                if args.reports and row[method].report is not None:
+                    path = args.reports / f"{name}-{method}.json"
+                    path.write_text(json.dumps(row[method].report, indent=1))
             results[name] = row
             known = next((r.report for r in row.values() if r.report is not None), None)
             vertices[name] = known["vertices"] if known else 0
