@@ -398,10 +398,13 @@ typedef struct SurfkitFairSummary {
    */
   int method;
   /*
-   Non-zero when the coarse stage ran (`SurfkitFairOptions::coarse_start`), and when the
-   fine iteration started from its optimum (not when F there was above the input's).
+   Non-zero when the coarse stage ran (`SurfkitFairOptions::coarse_start`).
    */
   int coarse_stage;
+  /*
+   Non-zero when the fine iteration started from the coarse optimum (0 when F there was
+   not below the input's, and it started from the input).
+   */
   int coarse_start_used;
   int converged;
   int cancelled;

@@ -128,9 +128,10 @@ pub struct SurfkitFairSummary {
     pub surface: c_int,
     /// The method that ran ([`SURFKIT_METHOD_PLAIN`] or [`SURFKIT_METHOD_MULTILEVEL`]).
     pub method: c_int,
-    /// Non-zero when the coarse stage ran (`SurfkitFairOptions::coarse_start`), and when the
-    /// fine iteration started from its optimum (not when F there was above the input's).
+    /// Non-zero when the coarse stage ran (`SurfkitFairOptions::coarse_start`).
     pub coarse_stage: c_int,
+    /// Non-zero when the fine iteration started from the coarse optimum (0 when F there was
+    /// not below the input's, and it started from the input).
     pub coarse_start_used: c_int,
     pub converged: c_int,
     pub cancelled: c_int,

@@ -109,6 +109,18 @@ def refined(cli: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
     return path
 
 
+def fair_refined(
+    cli: Path, refined: Path, out: Path, *options: str
+) -> subprocess.CompletedProcess[str]:
+    """`surfkit fair` on the refined junction as it is (no refinement), with `options`."""
+    return subprocess.run(
+        [cli, "fair", refined, "-o", out, "--max-refinements", "0", *options],
+        check=False,
+        capture_output=True,
+        text=True,
+    )
+
+
 def test_the_method_is_chosen_by_keyword(refined: Path):
     # Both methods reach the same minimum, and the report names the one that ran.
     mesh = surfkit.read_mesh(refined)
@@ -122,13 +134,10 @@ def test_the_method_is_chosen_by_keyword(refined: Path):
 
 
 def test_the_coarse_start_is_the_cli_coarse_start(refined: Path, cli: Path, tmp_path: Path):
-    run = subprocess.run(
-        [cli, "fair", refined, "-o", tmp_path / "o.obj", "--max-refinements", "0"]
-        + ["--method", "multilevel", "--coarse-start", "--json"],
-        check=True,
-        capture_output=True,
-        text=True,
+    run = fair_refined(
+        cli, refined, tmp_path / "o.obj", "--method", "multilevel", "--coarse-start", "--json"
     )
+    assert run.returncode == 0, run.stderr
     theirs = json.loads(run.stdout)["report"]
     _, report = surfkit.fair(
         surfkit.read_mesh(refined), method="multilevel", max_refinements=0, coarse_start=True
@@ -151,12 +160,8 @@ def test_the_memory_limit_is_the_cli_max_memory(refined: Path, cli: Path, tmp_pa
         next(line for line in meminfo.splitlines() if line.startswith("MemTotal:")).split()[1]
     )
     assert surfkit.max_memory() == total_kib * 1024 // 2
-    run = subprocess.run(
-        [cli, "fair", refined, "-o", tmp_path / "o.obj", "--max-refinements", "0"]
-        + ["--method", "plain", "--max-memory", "400M"],
-        check=False,
-        capture_output=True,
-        text=True,
+    run = fair_refined(
+        cli, refined, tmp_path / "o.obj", "--method", "plain", "--max-memory", "400M"
     )
     assert run.returncode != 0 and not (tmp_path / "o.obj").exists()
     mesh = surfkit.read_mesh(refined)
