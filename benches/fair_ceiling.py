@@ -16,9 +16,9 @@ SIZE is t3r2 (14 399 vertices), t5r2 (23 997), t3r3 (56 447), t5r3 (94 077) or t
 minutes) is stopped and shown as "> T"; --plain-timeout (default: --timeout) stops the
 plain method's runs sooner, so that one run of all sizes fits in an evening.
 --coarse-start gives the multilevel method's runs `surfkit fair --coarse-start` (nested
-iteration). --reports DIR keeps every run's JSON report, its iterations included. No peer runs in the same process: BSTools's
-multilevel method is documented at 72 009 free vertices in about 6 h 20 min (not measured
-here).
+iteration). --reports DIR keeps every run's JSON report, its iterations included. No peer
+runs in the same process: BSTools's multilevel method is documented at 72 009 free
+vertices in about 6 h 20 min (not measured here).
 """
 
 from __future__ import annotations
