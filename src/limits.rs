@@ -21,6 +21,20 @@ impl MemoryBudget {
         MemoryBudget { bytes }
     }
 
+    /// The smallest budget a caller may set: below it not even a small mesh's work fits.
+    pub const SMALLEST: u64 = 1 << 20;
+
+    /// A budget of `bytes` set by a caller (`--max-memory`, the C and Python doors), refused
+    /// below [`MemoryBudget::SMALLEST`] with the message those callers show.
+    pub fn checked(bytes: u64) -> Result<Self, String> {
+        if bytes < Self::SMALLEST {
+            return Err(format!(
+                "a memory limit of {bytes} bytes: it must be at least 1 MiB"
+            ));
+        }
+        Ok(MemoryBudget::bytes(bytes))
+    }
+
     /// The budget in bytes.
     pub const fn get(self) -> u64 {
         self.bytes
@@ -65,10 +79,10 @@ impl MemoryBudget {
             }
         };
         let bytes = value * scale as f64;
-        if !(bytes.is_finite() && bytes >= (1 << 20) as f64 && bytes < u64::MAX as f64) {
-            return Err(format!("{text:?}: a memory limit must be at least 1M"));
+        if !(bytes.is_finite() && bytes < u64::MAX as f64) {
+            return Err(format!("{text:?}: not a size a machine can have"));
         }
-        Ok(MemoryBudget::bytes(bytes as u64))
+        MemoryBudget::checked(bytes as u64).map_err(|e| format!("{text:?}: {e}"))
     }
 }
 
@@ -132,6 +146,11 @@ mod tests {
         for bad in ["", "G", "12Q", "-1G", "nanG", "1K", "1e400"] {
             assert!(MemoryBudget::parse(bad).is_err(), "{bad:?} accepted");
         }
+        // The same floor for sizes given in bytes (the C and Python doors).
+        assert!(MemoryBudget::checked((1 << 20) - 1)
+            .unwrap_err()
+            .contains("1048575 bytes: it must be at least 1 MiB"));
+        assert_eq!(MemoryBudget::checked(1 << 20).unwrap().get(), 1 << 20);
     }
 
     #[test]

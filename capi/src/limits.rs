@@ -13,13 +13,14 @@ use crate::status::{guard, Failure, SURFKIT_INVALID_INPUT};
 #[no_mangle]
 pub extern "C" fn surfkit_set_max_memory(bytes: u64) -> c_int {
     guard(|| {
-        if bytes != 0 && bytes < 1 << 20 {
-            return Err(Failure {
+        let budget = (bytes != 0)
+            .then(|| MemoryBudget::checked(bytes))
+            .transpose()
+            .map_err(|message| Failure {
                 code: SURFKIT_INVALID_INPUT,
-                message: format!("a memory limit of {bytes} bytes: it must be 0 or at least 1 MiB"),
-            });
-        }
-        set_process_budget((bytes != 0).then(|| MemoryBudget::bytes(bytes)));
+                message: format!("{message} (or 0 for the default)"),
+            })?;
+        set_process_budget(budget);
         Ok(())
     })
 }

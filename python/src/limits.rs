@@ -23,12 +23,7 @@ pub fn set_max_memory(size: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
                      or None"
                 ))
             })?;
-            if bytes < 1 << 20 {
-                return Err(InvalidInput::new_err(format!(
-                    "a memory limit of {bytes} bytes: it must be at least 1 MiB"
-                )));
-            }
-            MemoryBudget::bytes(bytes)
+            MemoryBudget::checked(bytes).map_err(InvalidInput::new_err)?
         }),
     };
     set_process_budget(budget);
