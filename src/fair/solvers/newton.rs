@@ -497,7 +497,9 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
     /// with ν (F equal to 7 digits down to ν = 10⁻⁹), and a search starting there had to
     /// climb back one factorization at a time: on the 94 077-vertex Catmull–Clark junction,
     /// 2026-11-27, two searches spent 11 and 13 failed trials (30 s and 74 s) climbing from
-    /// ν ≈ 10⁻⁸ through the grid points this start skips. The steps taken are the same.
+    /// ν ≈ 10⁻⁸ through the grid points this start skips. A search that climbs takes the
+    /// step it took before; one that succeeds at this start, above the last best ν, may
+    /// take a shorter one (the 223 487-vertex junction's run parted there after 28 steps).
     /// `None` when no ν decreases F.
     fn lm_search(
         &mut self,
@@ -773,10 +775,10 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
                 };
                 let scale = diagonal_scale(&h);
                 // The best ν changes slowly from one iteration to the next: the search
-                // starts where the last one found it (at 14399 vertices, exact trajectory, an earlier
-                // session: 124 factorizations instead of 154 from a fixed 10⁻³ of the
-                // diagonal scale, same Hessians), the first at a small ν, so that it finds
-                // the longest decreasing step.
+                // starts about where the last one found it, `lm_search`'s next start (at
+                // 14399 vertices, exact trajectory, an earlier session: 124 factorizations
+                // instead of 154 from a fixed 10⁻³ of the diagonal scale, same Hessians),
+                // the first at a small ν, so that it finds the longest decreasing step.
                 let start = next_nu.unwrap_or(scale * 1e-3);
                 let search = run.lm_search((&h, key), &g, positions, terms.f, start);
                 if let Some((nu, trial, next_start)) = search {
