@@ -496,8 +496,8 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
     /// of this one that [`gains`] on the one before. Below it the step no longer changes
     /// with ν (F equal to 7 digits down to ν = 10⁻⁹), and a search starting there had to
     /// climb back one factorization at a time: on the 94 077-vertex Catmull–Clark junction,
-    /// 2026-11-27, two searches spent 11 and 13 failed trials (30 s and 74 s) climbing from
-    /// ν ≈ 10⁻⁸ through the grid points this start skips. A search that climbs takes the
+    /// 2026-11-27, two searches spent 14 and 12 failed trials (37 s and 67 s) climbing from
+    /// ν ≈ 10⁻⁸, most of them below where this start begins. A search that climbs takes the
     /// step it took before; one that succeeds at this start, above the last best ν, may
     /// take a shorter one (the 223 487-vertex junction's run parted there after 28 steps).
     /// `None` when no ν decreases F.
