@@ -299,6 +299,17 @@ struct Trial {
     positions: Vec<[f64; 3]>,
 }
 
+/// What a Levenberg–Marquardt search ([`Stepper::lm_search`]) found.
+struct LmFound {
+    /// The ν of the best point along the trajectory, and that point.
+    nu: f64,
+    trial: Trial,
+    /// Where the next search starts: the last ν that still [`gains`] (at or above `nu` when
+    /// the search followed the trajectory towards longer steps, at or below it when towards
+    /// shorter ones).
+    next_start: f64,
+}
+
 /// A (possibly halved) Newton step: the point, its gradient and the kind of step.
 type NewtonStep = (Trial, Vec<f64>, StepKind);
 
@@ -492,8 +503,8 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
     /// factorizations at 14399 vertices instead of 100, with the same 29 Hessians, on the
     /// exact trajectory; an earlier session's measurement.)
     ///
-    /// Returns the best ν and its point, and where the next search should start: the last ν
-    /// of this one that [`gains`] on the one before. Below it the step no longer changes
+    /// Returns the best ν and its point, and where the next search should start
+    /// ([`LmFound::next_start`]): the last ν of this one that [`gains`] on the one before. Below it the step no longer changes
     /// with ν (F equal to 7 digits down to ν = 10⁻⁹), and a search starting there had to
     /// climb back one factorization at a time: on the 94 077-vertex Catmull–Clark junction,
     /// 2026-11-27, two searches spent 14 and 12 failed trials (37 s and 67 s) climbing from
@@ -508,7 +519,7 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
         positions: &[[f64; 3]],
         f: f64,
         start: f64,
-    ) -> Option<(f64, Trial, f64)> {
+    ) -> Option<LmFound> {
         let mut nu = start;
         let mut best = None;
         for _ in 0..60 {
@@ -541,7 +552,11 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
                 }
             }
         }
-        Some((best_nu, best_trial, next_start))
+        Some(LmFound {
+            nu: best_nu,
+            trial: best_trial,
+            next_start,
+        })
     }
 
     /// Backtracking along −g (a safeguard, not in the paper) for when no H + νI gave a
@@ -780,10 +795,14 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
                 // instead of 154 from a fixed 10⁻³ of the diagonal scale, same Hessians),
                 // the first at a small ν, so that it finds the longest decreasing step.
                 let start = next_nu.unwrap_or(scale * 1e-3);
-                let search = run.lm_search((&h, key), &g, positions, terms.f, start);
-                if let Some((nu, trial, next_start)) = search {
-                    next_nu = Some(next_start);
-                    step = Some((trial, None, StepKind::LevenbergMarquardt, Some(nu)));
+                if let Some(found) = run.lm_search((&h, key), &g, positions, terms.f, start) {
+                    next_nu = Some(found.next_start);
+                    step = Some((
+                        found.trial,
+                        None,
+                        StepKind::LevenbergMarquardt,
+                        Some(found.nu),
+                    ));
                 } else if let Some(trial) = run.steepest_descent(&g, positions, terms.f, scale) {
                     step = Some((trial, None, StepKind::SteepestDescent, None));
                 }
