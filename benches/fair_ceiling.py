@@ -16,9 +16,9 @@ SIZE is t3r2 (14 399 vertices), t5r2 (23 997), t3r3 (56 447), t5r3 (94 077) or t
 minutes) is stopped and shown as "> T"; --plain-timeout (default: --timeout) stops the
 plain method's runs sooner, so that one run of all sizes fits in an evening.
 --coarse-start gives the multilevel method's runs `surfkit fair --coarse-start` (nested
-iteration). --reports DIR keeps every run's JSON report, its iterations included. No peer
-runs in the same process: BSTools's multilevel method is documented at 72 009 free
-vertices in about 6 h 20 min (not measured here).
+iteration). --reports DIR keeps every run's JSON report, its iterations included, and its
+faired mesh. No peer runs in the same process: BSTools's multilevel method is documented
+at 72 009 free vertices in about 6 h 20 min (not measured here).
 """
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ import argparse
 import json
 import math
 import os
+import shutil
 import subprocess
 import tempfile
 import time
@@ -50,6 +51,8 @@ class Run:
     peak_gb: float
     report: dict | None  # None when stopped at the timeout or refused
     error: str = ""  # why surfkit refused the run (its message), if it did
+    # The faired mesh's extraordinary_edge_ratio (None when the run did not finish).
+    extraordinary: float | None = None
 
     @property
     def converged(self) -> bool:
@@ -80,7 +83,38 @@ class Run:
             f"  {newton['cg_iterations']:5}  {newton['fine_factorizations']:3}  {ratio:.1e}{mark}"
             f" {floor_cell}"
             f"  {self.report['final_terms']['f']:10.4f}"
+            f"  {self.extraordinary if self.extraordinary is not None else float('nan'):5.2f}"
         )
+
+
+def extraordinary_edge_ratio(path: Path) -> float:
+    """Mean length of the edges at the interior vertices of valence other than 4 over the
+    median edge length: how far the optimum shrinks (or grows) the neighbourhoods of the
+    extraordinary vertices against the rest of the mesh."""
+    positions: list[tuple[float, float, float]] = []
+    edges: dict[tuple[int, int], int] = {}
+    with path.open() as obj:
+        for line in obj:
+            if line.startswith("v "):
+                x, y, z = line.split()[1:4]
+                positions.append((float(x), float(y), float(z)))
+            elif line.startswith("f "):
+                face = [int(token.split("/")[0]) - 1 for token in line.split()[1:]]
+                for a, b in zip(face, face[1:] + face[:1]):
+                    key = (min(a, b), max(a, b))
+                    edges[key] = edges.get(key, 0) + 1
+    valence = [0] * len(positions)
+    boundary = [False] * len(positions)
+    for (a, b), faces in edges.items():
+        valence[a] += 1
+        valence[b] += 1
+        if faces == 1:
+            boundary[a] = boundary[b] = True
+    extraordinary = [not boundary[v] and valence[v] != 4 for v in range(len(positions))]
+    lengths = {e: math.dist(positions[e[0]], positions[e[1]]) for e in edges}
+    at = [length for (a, b), length in lengths.items() if extraordinary[a] or extraordinary[b]]
+    median = sorted(lengths.values())[len(lengths) // 2]
+    return sum(at) / len(at) / median
 
 
 def coarse_hessians(report: dict) -> int:
@@ -140,8 +174,8 @@ def main() -> None:
         f"junctions, {os.cpu_count()} cores, tolerance 1e-8, timeout {args.timeout:.0f} s "
         f"(plain: {timeouts['plain']:.0f} s), coarse start: {args.coarse_start}"
     )
-    header = "    wall s  peak GB  H+GN+coarse  CG  LLt  |g|/|g0|  floor   F reached"
-    print("size   vertices   free  " + "  ".join(f"{m:>10}:{header}" for m in methods))
+    header = "    wall s  peak GB  H+GN+coarse  CG  LLt  |g|/|g0|  floor   F reached  EV/med"
+    print("size   vertices   free  EV/med  " + "  ".join(f"{m:>10}:{header}" for m in methods))
     results: dict[str, dict[str, Run]] = {}
     vertices: dict[str, int] = {}
     for name in args.sizes:
@@ -153,6 +187,7 @@ def main() -> None:
                 check=True,
                 capture_output=True,
             )
+            extraordinary_input = extraordinary_edge_ratio(mesh)
             row = {}
             for method in methods:
                 row[method] = run_measured(
@@ -161,21 +196,25 @@ def main() -> None:
                     + (["--coarse-start"] if args.coarse_start and method != "plain" else []),
                     timeouts.get(method, args.timeout),
                 )
+                if row[method].report is not None:
+                    row[method].extraordinary = extraordinary_edge_ratio(Path(tmp) / "out.obj")
                 if args.reports and row[method].report is not None:
                     path = args.reports / f"{name}-{method}.json"
                     path.write_text(json.dumps(row[method].report, indent=1))
+                    shutil.copyfile(Path(tmp) / "out.obj", path.with_suffix(".obj"))
             results[name] = row
             known = next((r.report for r in row.values() if r.report is not None), None)
             vertices[name] = known["vertices"] if known else 0
             free = known["free_vertices"] if known else 0
             print(
-                f"{name:6} {vertices[name]:8} {free:6}  "
+                f"{name:6} {vertices[name]:8} {free:6}  {extraordinary_input:6.2f}  "
                 + "  ".join(f"{'':>10} {row[m].cells()}" for m in methods),
                 flush=True,
             )
     print(
         "floor: the gradient's floor for double coordinates (|H u|, u their rounding) over"
-        " |g0|; *: stopped there, above the tolerance"
+        " |g0|; *: stopped there, above the tolerance; EV/med: mean length of the edges at the"
+        " extraordinary vertices over the median edge length, of the input and of the optimum"
     )
     if set(methods) >= {"plain", "multilevel"}:
         print("speed-up of the multilevel method (plain wall / multilevel wall):")
