@@ -5,7 +5,9 @@ Gauss–Newton part alone + the coarse stage's Hessians the multilevel method st
 conjugate-gradient iterations, the fine Cholesky factors ("LLt") the
 multilevel method fell back to where its V-cycle stagnated, the gradient reduction reached
 (against the input's gradient) and F there (the five-tube junctions have several local
-minima), the two methods side by side, then the issue's goals.
+minima), how much the optimum shrinks the extraordinary vertices' neighbourhoods (EV/med,
+extraordinary_edge_ratio, of the input and of each optimum), the two methods side by
+side, then the issue's goals.
 
     .venv/bin/python benches/fair_ceiling.py [SIZE ...] [--surface g2|catmull-clark]
         [--methods plain,multilevel] [--timeout SECONDS] [--plain-timeout SECONDS]
@@ -90,7 +92,7 @@ class Run:
 def extraordinary_edge_ratio(path: Path) -> float:
     """Mean length of the edges at the interior vertices of valence other than 4 over the
     median edge length: how far the optimum shrinks (or grows) the neighbourhoods of the
-    extraordinary vertices against the rest of the mesh."""
+    extraordinary vertices against the rest of the mesh (NaN for a mesh without any)."""
     positions: list[tuple[float, float, float]] = []
     edges: dict[tuple[int, int], int] = {}
     with path.open() as obj:
@@ -113,6 +115,8 @@ def extraordinary_edge_ratio(path: Path) -> float:
     extraordinary = [not boundary[v] and valence[v] != 4 for v in range(len(positions))]
     lengths = {e: math.dist(positions[e[0]], positions[e[1]]) for e in edges}
     at = [length for (a, b), length in lengths.items() if extraordinary[a] or extraordinary[b]]
+    if not at:
+        return math.nan
     median = sorted(lengths.values())[len(lengths) // 2]
     return sum(at) / len(at) / median
 
