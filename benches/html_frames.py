@@ -36,7 +36,7 @@ def torus_ply(path: Path, triangles: int, holes: int = 20) -> None:
     y = (3 + np.cos(b)) * np.sin(a)
     z = np.sin(b)
     vertices = np.stack([x, y, z], axis=-1).reshape(-1, 3).astype("<f4")
-    v = lambda p, q: (p % n) * m + (q % m)  # noqa: E731
+    v = lambda p, q: (p % n) * m + (q % m)
     p, q = i.ravel(), j.ravel()
     lower = np.stack([v(p, q), v(p + 1, q), v(p + 1, q + 1)], axis=-1)
     upper = np.stack([v(p, q), v(p + 1, q + 1), v(p, q + 1)], axis=-1)

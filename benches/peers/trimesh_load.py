@@ -22,8 +22,8 @@ def main():
     print(json.dumps({
         "median_s": statistics.median(times),
         "min_s": min(times),
-        "vertices": int(len(mesh.vertices)),
-        "faces": int(len(mesh.faces)),
+        "vertices": len(mesh.vertices),
+        "faces": len(mesh.faces),
         "trimesh": trimesh.__version__,
     }))
 
