@@ -53,8 +53,8 @@ class Run:
     peak_gb: float
     report: dict | None  # None when stopped at the timeout or refused
     error: str = ""  # why surfkit refused the run (its message), if it did
-    # The faired mesh's extraordinary_edge_ratio (None when the run did not finish).
-    extraordinary: float | None = None
+    # The faired mesh's extraordinary_edge_ratio (NaN when the run did not finish).
+    extraordinary: float = math.nan
 
     @property
     def converged(self) -> bool:
@@ -85,7 +85,7 @@ class Run:
             f"  {newton['cg_iterations']:5}  {newton['fine_factorizations']:3}  {ratio:.1e}{mark}"
             f" {floor_cell}"
             f"  {self.report['final_terms']['f']:10.4f}"
-            f"  {self.extraordinary if self.extraordinary is not None else float('nan'):5.2f}"
+            f"  {self.extraordinary:5.2f}"
         )
 
 
@@ -200,12 +200,14 @@ def main() -> None:
                     + (["--coarse-start"] if args.coarse_start and method != "plain" else []),
                     timeouts.get(method, args.timeout),
                 )
-                if row[method].report is not None:
-                    row[method].extraordinary = extraordinary_edge_ratio(Path(tmp) / "out.obj")
-                if args.reports and row[method].report is not None:
+                if row[method].report is None:
+                    continue
+                faired = Path(tmp) / "out.obj"
+                row[method].extraordinary = extraordinary_edge_ratio(faired)
+                if args.reports:
                     path = args.reports / f"{name}-{method}.json"
                     path.write_text(json.dumps(row[method].report, indent=1))
-                    shutil.copyfile(Path(tmp) / "out.obj", path.with_suffix(".obj"))
+                    shutil.copyfile(faired, path.with_suffix(".obj"))
             results[name] = row
             known = next((r.report for r in row.values() if r.report is not None), None)
             vertices[name] = known["vertices"] if known else 0

@@ -504,14 +504,14 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
     /// exact trajectory; an earlier session's measurement.)
     ///
     /// Returns the best ν and its point, and where the next search should start
-    /// ([`LmFound::next_start`]): the last ν of this one that [`gains`] on the one before. Below it the step no longer changes
-    /// with ν (F equal to 7 digits down to ν = 10⁻⁹), and a search starting there had to
-    /// climb back one factorization at a time: on the 94 077-vertex Catmull–Clark junction,
-    /// 2026-11-27, two searches spent 14 and 12 failed trials (37 s and 67 s) climbing from
-    /// ν ≈ 10⁻⁸, most of them below where this start begins. A search that climbs takes the
-    /// step it took before; one that succeeds at this start, above the last best ν, may
-    /// take a shorter one (the 223 487-vertex junction's run parted there after 28 steps).
-    /// `None` when no ν decreases F.
+    /// ([`LmFound::next_start`]): the last ν of this one that [`gains`] on the one before.
+    /// Below it the step no longer changes with ν (F equal to 7 digits down to ν = 10⁻⁹),
+    /// and a search starting there had to climb back one factorization at a time: on the
+    /// 94 077-vertex Catmull–Clark junction, 2026-11-27, two searches spent 14 and 12 failed
+    /// trials (37 s and 67 s) climbing from ν ≈ 10⁻⁸, most of them below where this start
+    /// begins. A search that climbs takes the step it took before; one that succeeds at this
+    /// start, above the last best ν, may take a shorter one (the 223 487-vertex junction's
+    /// run parted there after 28 steps). `None` when no ν decreases F.
     fn lm_search(
         &mut self,
         h: (&BlockHessian, u64),
