@@ -149,6 +149,8 @@ fn fair_optimize_paper_steps_and_default_steps_reach_the_same_minimum() {
         options.newton.lm_matrix = lm_matrix;
         options.newton.newton_halvings = newton_halvings;
         options.newton.newton_after_decrease = newton_after_decrease;
+        // A Newton trial after every step: none skipped after failed ones either.
+        options.newton.newton_backoff = newton_after_decrease < 1.0;
         optimize(&mesh, &options).unwrap()
     };
     let (paper, paper_report) = run(LmMatrix::Exact, 0, 1.0);
@@ -198,6 +200,7 @@ fn fair_optimize_gauss_newton_parts_alone_reach_the_same_minimum_with_fewer_hess
             ..FairOptions::default()
         };
         options.newton.newton_after_decrease = newton_after_decrease;
+        options.newton.newton_backoff = newton_after_decrease < 1.0;
         optimize(&mesh, &options).unwrap()
     };
     let (every, every_report) = run(1.0);

@@ -167,9 +167,15 @@ pub struct FairArgs {
     pub newton_halvings: usize,
     /// After a Levenberg–Marquardt step that lowered F by more than this fraction of it,
     /// search the trajectory again from the Hessian's Gauss–Newton part alone, without the
-    /// exact Hessian and its Newton trial (1: always try Newton, as the paper).
+    /// exact Hessian and its Newton trial (1 with --no-newton-backoff: always try Newton, as
+    /// the paper).
     #[arg(long, default_value_t = NEWTON_AFTER_DECREASE)]
     pub newton_after_decrease: f64,
+    /// Try Newton after every Levenberg–Marquardt step that lowered F by little, even right
+    /// after Newton trials that failed (default: after a failed trial skip 1, then 2, 4, …
+    /// such passes).
+    #[arg(long)]
+    pub no_newton_backoff: bool,
     /// Coarse-to-fine (paper §6): optimize the input, then this many times refine its
     /// surface (Catmull–Clark dropping the boundary ring, as `gen tubes --refine`) and
     /// optimize again from the refined optimum; writes the finest level. The finest problem
@@ -384,6 +390,7 @@ fn options(args: &FairArgs, memory: MemoryBudget) -> FairOptions {
     }
     options.newton.newton_halvings = args.newton_halvings;
     options.newton.newton_after_decrease = args.newton_after_decrease;
+    options.newton.newton_backoff = !args.no_newton_backoff;
     options.blocks = args.blocks.map(|count| BlockOptions {
         count,
         overlap: args.overlap,
