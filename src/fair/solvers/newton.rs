@@ -75,10 +75,10 @@ pub struct NewtonOptions {
     /// the next iteration evaluates the Hessian's Gauss–Newton part alone and searches the
     /// trajectory again, without the exact Hessian and its Newton trial
     /// ([`LmMatrix::GaussNewton`] only; 1 with [`Self::newton_backoff`] off: always try
-    /// Newton, as the paper). Beyond the
-    /// paper: from a raw mesh the exact Hessian stays indefinite while the damped steps
-    /// still lower F by percents, and a pass of the Gauss–Newton part alone costs about
-    /// half a pass of both. The default [`NEWTON_AFTER_DECREASE`].
+    /// Newton, as the paper). Beyond the paper: from a raw mesh the exact Hessian stays
+    /// indefinite while the damped steps still lower F by percents, and a pass of the
+    /// Gauss–Newton part alone costs about half a pass of both. The default
+    /// [`NEWTON_AFTER_DECREASE`].
     pub newton_after_decrease: f64,
     /// After a fresh Hessian whose Newton step failed (not positive definite, or no
     /// decrease even halved), the next 1, then 2, 4, … passes that follow a
