@@ -757,9 +757,10 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
                 run.report.iterations.last().map(|it| it.step),
                 None | Some(StepKind::LevenbergMarquardt)
             );
-            // After a Levenberg–Marquardt step that still lowered F by much, the
-            // trajectory alone: no exact Hessian, no Newton trial
-            // (`NewtonOptions::newton_after_decrease`).
+            // After a Levenberg–Marquardt step that still lowered F by much, or while
+            // backing off after a failed Newton trial, the trajectory alone: no exact
+            // Hessian, no Newton trial (`NewtonOptions::newton_after_decrease`,
+            // `NewtonOptions::newton_backoff`).
             let backing_off = trials_skipped > 0 && last_lm_decrease.is_some();
             if backing_off {
                 trials_skipped -= 1;
@@ -798,7 +799,7 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
                     next_skip = 1;
                 } else if options.newton_backoff {
                     trials_skipped = next_skip;
-                    next_skip *= 2;
+                    next_skip = next_skip.saturating_mul(2);
                 }
             }
             if step.is_none() {
