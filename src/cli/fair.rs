@@ -15,7 +15,7 @@ use super::html_pages::{fair_log_plot, fair_summary};
 use crate::fair::{
     optimize_levels_observed, read_fixed, refine_surface, shape_change, surface_samples, tubes,
     write_bezier_patches, BlockOptions, CoarseStart, CoarseStartReport, EndCaps, FairMethod,
-    FairOptions, FairReport, G2Surface, Iteration, LevelReport, LmMatrix, MeshTopology,
+    FairOptions, FairReport, G2Surface, Iteration, LevelReport, LmMatrix, LmSearch, MeshTopology,
     NewtonOptions, QDomain, RepresentationOptions, ShapeChange, StepKind, SurfaceKind,
     DEFAULT_C_SPECIAL, DEFAULT_C_SPECIAL_G2, DEFAULT_FAR_HESSIAN_NODES, DEFAULT_HESSIAN_NODES,
     DEFAULT_REGULARIZATION, NEWTON_AFTER_DECREASE,
@@ -176,6 +176,11 @@ pub struct FairArgs {
     /// such passes).
     #[arg(long)]
     pub no_newton_backoff: bool,
+    /// Follow each Levenberg–Marquardt trajectory while F decreases at all and raise ν by 4
+    /// after a failed trial (default: stop at the first trial that gains less than 1 % of
+    /// the decrease found, raise ν by 16).
+    #[arg(long)]
+    pub exhaustive_lm_search: bool,
     /// Coarse-to-fine (paper §6): optimize the input, then this many times refine its
     /// surface (Catmull–Clark dropping the boundary ring, as `gen tubes --refine`) and
     /// optimize again from the refined optimum; writes the finest level. The finest problem
@@ -391,6 +396,9 @@ fn options(args: &FairArgs, memory: MemoryBudget) -> FairOptions {
     options.newton.newton_halvings = args.newton_halvings;
     options.newton.newton_after_decrease = args.newton_after_decrease;
     options.newton.newton_backoff = !args.no_newton_backoff;
+    if args.exhaustive_lm_search {
+        options.newton.lm_search = LmSearch::Exhaustive;
+    }
     options.blocks = args.blocks.map(|count| BlockOptions {
         count,
         overlap: args.overlap,

@@ -44,7 +44,7 @@ pub use solvers::coordinate_floor::{coordinate_floor, ulp};
 pub use solvers::levels::{optimize_levels, optimize_levels_observed, CoarseToFine, LevelReport};
 pub use solvers::newton::{
     newton, newton_observed, newton_observed_with_hessians, HessianSources, Iteration, LmMatrix,
-    NewtonOptions, NewtonReport, StepKind, FLOOR_MARGIN, NEWTON_AFTER_DECREASE,
+    LmSearch, NewtonOptions, NewtonReport, StepKind, FLOOR_MARGIN, NEWTON_AFTER_DECREASE,
 };
 pub use solvers::pcg::{multiply, pcg, pcg_operator, CgOutcome, CgStop};
 pub use solvers::schwarz::Schwarz;

@@ -90,6 +90,8 @@ pub struct NewtonOptions {
     /// backoff, 6 exact Hessians, the same minimum (the 223 487-vertex one: 11 against 23,
     /// 2026-11-28). Off: every such pass has the exact Hessian.
     pub newton_backoff: bool,
+    /// How a Levenberg–Marquardt search spends its trials ([`LmSearch`]).
+    pub lm_search: LmSearch,
 }
 
 /// The default of [`NewtonOptions::newton_after_decrease`]. From the raw three- and
@@ -113,6 +115,24 @@ pub enum LmMatrix {
     GaussNewton,
 }
 
+/// How a Levenberg–Marquardt search ([`Stepper::lm_search`]) spends its trials, each a
+/// V-cycle set-up or factorization of H + νI, a solve and a value of F.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LmSearch {
+    /// Follow the trajectory while F decreases at all, and raise ν by 4 after a failed
+    /// trial (surfkit's search up to the sixteenth session).
+    Exhaustive,
+    /// Stop following the trajectory at the first trial that [`gains`] less than 1 % of
+    /// the decrease already found, and raise ν by 16 after a failed trial ([`CLIMB`]).
+    /// The default: on the 94 077-vertex Catmull–Clark junction from the raw mesh, 75
+    /// set-ups of H + νI (trials and Newton steps) and 320.1 s against 109 and 368.0 s,
+    /// the same minimum (2026-11-28, seventeenth session; 94 set-ups and 353.5 s with the
+    /// first rule alone).
+    #[default]
+    Frugal,
+}
+
 impl Default for NewtonOptions {
     fn default() -> Self {
         NewtonOptions {
@@ -124,6 +144,7 @@ impl Default for NewtonOptions {
             newton_halvings: 4,
             newton_after_decrease: NEWTON_AFTER_DECREASE,
             newton_backoff: true,
+            lm_search: LmSearch::Frugal,
         }
     }
 }
@@ -369,6 +390,7 @@ struct Stepper<'a, 'r, R: Representation, S: StepSolver> {
     passes: u64,
     /// The relative residual an inexact solver is asked for ([`forcing_term`]).
     forcing: f64,
+    search: LmSearch,
 }
 
 impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
@@ -507,13 +529,17 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
     }
 
     /// Searches for the ν minimizing f(ν) = F̃(x + δ_ν) (eq. 8–9) on a geometric grid
-    /// (factors of 4): from `start`, grow ν until F decreases; then follow the trajectory
-    /// while F keeps decreasing, in the direction the quadratic model points to: towards
-    /// longer steps (smaller ν) when the decrease matched the model's prediction (ratio
-    /// ≥ 3/4) and no smaller ν has failed already, towards shorter ones when it fell far
-    /// short (ratio < 1/4), nowhere in between. (Trying both directions every time cost 124
-    /// factorizations at 14399 vertices instead of 100, with the same 29 Hessians, on the
-    /// exact trajectory; an earlier session's measurement.)
+    /// (factors of 4): from `start`, grow ν until F decreases (by 16 at a time with
+    /// [`LmSearch::Frugal`]); then follow the trajectory while F keeps decreasing (with
+    /// [`LmSearch::Frugal`], while each trial [`gains`]), in the direction the quadratic
+    /// model points to: towards longer steps (smaller ν) when the decrease matched the
+    /// model's prediction (ratio ≥ 3/4) and no smaller ν has failed already, towards
+    /// shorter ones when it fell far short (ratio < 1/4), nowhere in between. (Trying both
+    /// directions every time cost 124 factorizations at 14399 vertices instead of 100, with
+    /// the same 29 Hessians, on the exact trajectory; an earlier session's measurement.)
+    /// Traced on the 94k five-tube Catmull–Clark junction (fifteenth session), two walks
+    /// went on for 15 and 12 trials, the last 8 and 6 of them lowering F by less than 10⁻³
+    /// of the decrease already found, and climbs took up to 7 trials of factor 4.
     ///
     /// Returns the best ν and its point, and where the next search should start
     /// ([`LmFound::next_start`]): the last ν of this one that [`gains`] on the one before.
@@ -532,17 +558,24 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
         f: f64,
         start: f64,
     ) -> Option<LmFound> {
+        let (climb, stop_without_gain) = match self.search {
+            LmSearch::Exhaustive => (4.0, false),
+            LmSearch::Frugal => (CLIMB, true),
+        };
         let mut nu = start;
         let mut best = None;
-        for _ in 0..60 {
+        // Up to ν = 2¹²⁰ · start either way.
+        for _ in 0..(120.0 / climb.log2()) as usize {
             if let Some(found) = self.lm_trial(h, nu, g, positions, f) {
                 best = Some((nu, found));
                 break;
             }
-            nu *= 4.0;
+            nu *= climb;
         }
         let (mut best_nu, (mut best_trial, ratio)) = best?;
-        let direction = if best_nu == start && ratio >= 0.75 {
+        // The largest ν known to fail: the walk towards longer steps stays above it.
+        let failed = (best_nu > start).then_some(best_nu / climb);
+        let direction = if ratio >= 0.75 && failed.is_none_or(|x| best_nu * 0.25 > x) {
             Some(0.25)
         } else if ratio < 0.25 {
             Some(4.0)
@@ -552,13 +585,20 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
         let mut next_start = best_nu;
         if let Some(factor) = direction {
             for _ in 0..30 {
+                if failed.is_some_and(|x| best_nu * factor <= x) {
+                    break;
+                }
                 match self.lm_trial(h, best_nu * factor, g, positions, f) {
                     Some((t, _)) if t.terms.f < best_trial.terms.f => {
+                        let gained = gains(t.terms.f, best_trial.terms.f, f);
                         best_nu *= factor;
-                        if gains(t.terms.f, best_trial.terms.f, f) {
+                        best_trial = t;
+                        if !gained && stop_without_gain {
+                            break;
+                        }
+                        if gained {
                             next_start = best_nu;
                         }
-                        best_trial = t;
                     }
                     _ => break,
                 }
@@ -595,6 +635,13 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
         None
     }
 }
+
+/// The factor by which a Levenberg–Marquardt search raises ν after a trial that did not
+/// lower F. Climbs from a start far below the ν that works took 2 to 5 failed trials of
+/// factor 4 on the 94k and 223k Catmull–Clark junctions (traced, fifteenth session); a
+/// search that climbed by 16 and whose step matched the model (ratio ≥ 3/4) tries the ν a
+/// quarter of its own, above the one that failed.
+const CLIMB: f64 = 16.0;
 
 /// The least improvement along the Levenberg–Marquardt trajectory, as a fraction of the
 /// decrease already found, that is worth another trial ν.
@@ -707,6 +754,7 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
         report: NewtonReport::new(terms, g0),
         passes: 0,
         forcing: 0.5,
+        search: options.lm_search,
     };
     if functional.free_count() == 0 || g0 == 0.0 {
         run.report.converged = true;
