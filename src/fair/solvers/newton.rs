@@ -539,7 +539,7 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
     /// the same 29 Hessians, on the exact trajectory; an earlier session's measurement.)
     /// Traced on the 94k five-tube Catmull–Clark junction (fifteenth session), two walks
     /// went on for 15 and 12 trials, the last 8 and 6 of them lowering F by less than 10⁻³
-    /// of the decrease already found, and climbs took up to 7 trials of factor 4.
+    /// of the decrease already found, and climbs took 2 to 5 failed trials of factor 4.
     ///
     /// Returns the best ν and its point, and where the next search should start
     /// ([`LmFound::next_start`]): the last ν of this one that [`gains`] on the one before.
