@@ -271,9 +271,8 @@ fn same_minimum_on_both_surfaces(
 fn fair_optimize_newton_backoff_reaches_the_same_minimum_with_fewer_hessians() {
     // After a Newton trial that failed, skipping the exact Hessian for the next 1, 2, 4, …
     // passes after damped steps (the default) against a trial after every damped step
-    // that lowered F by little. Fewer exact Hessians (measured 2026-11-28 with the frugal
-    // search: 3 against 4 on the G² surface, 4 against 5 on the Catmull–Clark one; 5
-    // against 7 there with the exhaustive search).
+    // that lowered F by little. Fewer exact Hessians (measured 2026-11-28: 3 against 4 on
+    // the G² surface, 5 against 7 on the Catmull–Clark one).
     let runs = same_minimum_on_both_surfaces(
         |o| o.newton.newton_backoff = false,
         |o| o.newton.newton_backoff = true,
@@ -294,7 +293,7 @@ fn fair_optimize_newton_backoff_reaches_the_same_minimum_with_fewer_hessians() {
 #[test]
 fn fair_optimize_frugal_lm_search_reaches_the_same_minimum_with_fewer_set_ups() {
     // The Levenberg–Marquardt searches that stop following the trajectory where a trial
-    // gains less than 1 % and climb ν by 16 (the default) against the exhaustive ones.
+    // gains less than 1 % and climb ν by 16 against the exhaustive ones (the default).
     // Fewer set-ups of H + νI (measured 2026-11-28: 33 against 37 on the G² surface, 36
     // against 40 on the Catmull–Clark one).
     let runs = same_minimum_on_both_surfaces(

@@ -176,11 +176,11 @@ pub struct FairArgs {
     /// such passes).
     #[arg(long)]
     pub no_newton_backoff: bool,
-    /// Follow each Levenberg–Marquardt trajectory while F decreases at all and raise ν by 4
-    /// after a failed trial (default: stop at the first trial that gains less than 1 % of
-    /// the decrease found, raise ν by 16).
+    /// Stop following each Levenberg–Marquardt trajectory at the first trial that gains
+    /// less than 1 % of the decrease found, and raise ν by 16 after a failed trial
+    /// (default: follow it while F decreases at all, raise ν by 4).
     #[arg(long)]
-    pub exhaustive_lm_search: bool,
+    pub frugal_lm_search: bool,
     /// Coarse-to-fine (paper §6): optimize the input, then this many times refine its
     /// surface (Catmull–Clark dropping the boundary ring, as `gen tubes --refine`) and
     /// optimize again from the refined optimum; writes the finest level. The finest problem
@@ -396,8 +396,8 @@ fn options(args: &FairArgs, memory: MemoryBudget) -> FairOptions {
     options.newton.newton_halvings = args.newton_halvings;
     options.newton.newton_after_decrease = args.newton_after_decrease;
     options.newton.newton_backoff = !args.no_newton_backoff;
-    if args.exhaustive_lm_search {
-        options.newton.lm_search = LmSearch::Exhaustive;
+    if args.frugal_lm_search {
+        options.newton.lm_search = LmSearch::Frugal;
     }
     options.blocks = args.blocks.map(|count| BlockOptions {
         count,

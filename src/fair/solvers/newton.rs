@@ -121,15 +121,16 @@ pub enum LmMatrix {
 #[serde(rename_all = "snake_case")]
 pub enum LmSearch {
     /// Follow the trajectory while F decreases at all, and raise ν by 4 after a failed
-    /// trial (surfkit's search up to the sixteenth session).
+    /// trial. The default.
+    #[default]
     Exhaustive,
     /// Stop following the trajectory at the first trial that [`gains`] less than 1 % of
-    /// the decrease already found, and raise ν by 16 after a failed trial ([`CLIMB`]).
-    /// The default: on the 94 077-vertex Catmull–Clark junction from the raw mesh, 75
-    /// set-ups of H + νI (trials and Newton steps) and 320.1 s against 109 and 368.0 s,
-    /// the same minimum (2026-11-28, seventeenth session; 94 set-ups and 353.5 s with the
-    /// first rule alone).
-    #[default]
+    /// the decrease already found, and raise ν by 16 after a failed trial ([`CLIMB`]). On
+    /// the 94 077-vertex Catmull–Clark junction from the raw mesh: 75 set-ups of H + νI
+    /// (trials and Newton steps) and 320.1 s against 109 and 368.0 s, the same minimum
+    /// (2026-11-28, seventeenth session). Not the default: on the G² surface the same
+    /// junction took 558.4 s, 6 + 25 passes and 888 CG iterations against 336.3 s, 4 + 18
+    /// and 536 (sixteenth session's bench), to the same minimum.
     Frugal,
 }
 
@@ -144,7 +145,7 @@ impl Default for NewtonOptions {
             newton_halvings: 4,
             newton_after_decrease: NEWTON_AFTER_DECREASE,
             newton_backoff: true,
-            lm_search: LmSearch::Frugal,
+            lm_search: LmSearch::Exhaustive,
         }
     }
 }
