@@ -129,8 +129,8 @@ pub enum LmSearch {
     /// the 94 077-vertex Catmull–Clark junction from the raw mesh: 75 set-ups of H + νI
     /// (trials and Newton steps) and 320.1 s against 109 and 368.0 s, the same minimum
     /// (2026-11-28, seventeenth session). Not the default: on the G² surface the same
-    /// junction took 558.4 s, 6 + 25 passes and 888 CG iterations against 336.3 s, 4 + 18
-    /// and 536 (sixteenth session's bench), to the same minimum.
+    /// junction took 560.2 s, 6 + 25 passes, 87 set-ups and 888 CG iterations against
+    /// 316.0 s, 4 + 18, 75 and 536, to the same minimum (back to back, the same day).
     Frugal,
 }
 
@@ -574,9 +574,10 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
             nu *= climb;
         }
         let (mut best_nu, (mut best_trial, ratio)) = best?;
-        // The largest ν known to fail: the walk towards longer steps stays above it.
+        // The largest ν known to fail (the search climbed past it): the walk towards
+        // longer steps stays above it.
         let failed = (best_nu > start).then_some(best_nu / climb);
-        let direction = if ratio >= 0.75 && failed.is_none_or(|x| best_nu * 0.25 > x) {
+        let direction = if ratio >= 0.75 {
             Some(0.25)
         } else if ratio < 0.25 {
             Some(4.0)
@@ -594,11 +595,10 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
                         let gained = gains(t.terms.f, best_trial.terms.f, f);
                         best_nu *= factor;
                         best_trial = t;
-                        if !gained && stop_without_gain {
-                            break;
-                        }
                         if gained {
                             next_start = best_nu;
+                        } else if stop_without_gain {
+                            break;
                         }
                     }
                     _ => break,
