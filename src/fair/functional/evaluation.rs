@@ -19,11 +19,15 @@ use std::ops::Range;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
 use foldhash::{HashMap, HashMapExt};
+use num_dual::Dual2_64;
 use rayon::prelude::*;
 
-use crate::fair::functional::q_density::{q_density, q_density_gradient, q_residual};
+use crate::fair::functional::q_density::{
+    q_density, q_density_gradient, q_residual, q_residual_transpose_product,
+};
 use crate::fair::functional::s_density::{
     mean_curvature, s_density, s_density_gradient, s_density_gradient_residual, s_residual,
+    s_residual_transpose_product,
 };
 use crate::fair::functional::tangent::{cross, dot, Tangent};
 use crate::fair::surface::representation::{QuadraturePoint, Representation, DERIVATIVES};
@@ -112,6 +116,22 @@ impl pulp::WithSimd for PointGaussNewton<'_> {
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
         point_gauss_newton(self.x, self.ws, self.wq, self.rows)
+    }
+}
+
+/// [`point_residual_curvature`] compiled as [`PointHessian`].
+struct PointResidualCurvature<'a> {
+    x: &'a [f64; VARS],
+    xv: &'a [f64; VARS],
+    ws: f64,
+    wq: f64,
+}
+
+impl pulp::WithSimd for PointResidualCurvature<'_> {
+    type Output = [f64; VARS];
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
+        point_residual_curvature(self.x, self.xv, self.ws, self.wq)
     }
 }
 
@@ -217,6 +237,33 @@ fn q_tangents(d: &[[f64; 3]; DERIVATIVES]) -> [[Tangent<Q_VARS>; 3]; 4] {
     std::array::from_fn(|i| std::array::from_fn(|a| Tangent::variable(qx[i][a], 3 * i + a)))
 }
 
+/// One point's part of [`Functional::residual_curvature`] over its 27 derivative
+/// coordinates `x`, moving along `xv`: 2 w Jᵀ r_vv for S's residuals (weight `ws`) and
+/// Q's (`wq`).
+#[inline(always)]
+fn point_residual_curvature(x: &[f64; VARS], xv: &[f64; VARS], ws: f64, wq: f64) -> [f64; VARS] {
+    let mut out = [0.0; VARS];
+    let d = unpack(x);
+    let dv = unpack(xv);
+    if ws != 0.0 {
+        let jets: [[Dual2_64; 3]; DERIVATIVES] =
+            std::array::from_fn(|k| std::array::from_fn(|a| Dual2_64::new(d[k][a], dv[k][a], 0.0)));
+        let [r1, r2] = s_residual(&jets).map(|r| 2.0 * ws * r.v2);
+        out = pack(&s_residual_transpose_product(&d, [r1, r2]));
+    }
+    let (q, qv) = (q_vars(&d), q_vars(&dv));
+    let jets: [[Dual2_64; 3]; 4] =
+        std::array::from_fn(|i| std::array::from_fn(|a| Dual2_64::new(q[i][a], qv[i][a], 0.0)));
+    let r = q_residual(&jets).map(|r| 2.0 * wq * r.v2);
+    let product = q_residual_transpose_product(&q, [[r[0], r[1], r[2]], [r[3], r[4], r[5]]]);
+    for (i, coordinates) in Q_COORDINATES.iter().enumerate() {
+        for &c in *coordinates {
+            out[c] += product[i / 3][i % 3];
+        }
+    }
+    out
+}
+
 /// Densities and gradient as [`point_hessian`], and in `rows` the Jacobians of the
 /// residuals ([`s_residual`], [`q_residual`]) scaled by √(2w), so that `Σ rowᵀ row` is the
 /// Gauss–Newton part of the point's Hessian ([`HessianKind::GaussNewton`]).
@@ -300,6 +347,11 @@ fn point_hessian(
 
 fn unpack<T: Copy>(x: &[T]) -> [[T; 3]; DERIVATIVES] {
     std::array::from_fn(|d| [x[3 * d], x[3 * d + 1], x[3 * d + 2]])
+}
+
+/// The 27 coordinates of nine 3-vectors (the inverse of [`unpack`]).
+fn pack(d: &[[f64; 3]; DERIVATIVES]) -> [f64; VARS] {
+    std::array::from_fn(|i| d[i / 3][i % 3])
 }
 
 /// The derivatives at quadrature point `k` of `rep` for vertex `positions`.
@@ -618,6 +670,63 @@ impl<'a, R: Representation> Functional<'a, R> {
         let mut t = total.terms;
         t.f = t.s + self.c * t.q;
         (t, total.g)
+    }
+
+    /// 2 Σ_p w_p J_pᵀ r_vv,p over the free coordinates: the residuals' (S's and Q's, as in
+    /// the Gauss–Newton part) second directional derivatives along `direction` (3 entries
+    /// per free vertex), exact through second-order duals, mapped back by their Jacobians. With the
+    /// Gauss–Newton matrix B, −(B + νI)⁻¹ of it is the geodesic acceleration of the
+    /// Levenberg–Marquardt step `direction` (Transtrum and Sethna 2012, eq. 14). `None`
+    /// where a residual is not finite (a folded point).
+    pub fn residual_curvature(
+        &self,
+        positions: &[[f64; 3]],
+        direction: &[f64],
+    ) -> Option<Vec<f64>> {
+        let total = self
+            .groups
+            .par_chunks(chunk_len(self.groups.len()))
+            .map(|chunk| {
+                let mut out = vec![0.0; 3 * self.free_count];
+                for k in chunk.iter().flat_map(|group| group.points.clone()) {
+                    let (x, ws, wq) = self.point_input(k, positions);
+                    let xv = self.direction_derivatives(k, direction);
+                    let grad = self.arch.dispatch(PointResidualCurvature {
+                        x: &x,
+                        xv: &xv,
+                        ws,
+                        wq,
+                    });
+                    self.scatter_gradient(k, &grad, &mut out);
+                }
+                out
+            })
+            .reduce_with(|mut a, b| {
+                a.iter_mut().zip(&b).for_each(|(a, b)| *a += b);
+                a
+            })
+            .unwrap_or_else(|| vec![0.0; 3 * self.free_count]);
+        total.iter().all(|x| x.is_finite()).then_some(total)
+    }
+
+    /// The 27 derivative coordinates at point `k` of the displacement `direction` of the
+    /// free vertices (3 entries each; fixed vertices do not move).
+    fn direction_derivatives(&self, k: usize, direction: &[f64]) -> [f64; VARS] {
+        let p = &self.rep.points()[k];
+        let mut xv = [0.0; VARS];
+        for (&v, c) in p.vertices.iter().zip(p.coefficients.iter()) {
+            let i = self.free_index[v as usize];
+            if i == u32::MAX {
+                continue;
+            }
+            let dv = &direction[3 * i as usize..3 * i as usize + 3];
+            for d in 0..DERIVATIVES {
+                for a in 0..3 {
+                    xv[3 * d + a] += c[d] * dv[a];
+                }
+            }
+        }
+        xv
     }
 
     /// Point `k`'s derivatives and the weights of its S and Q densities in F.
@@ -1108,6 +1217,72 @@ mod tests {
             }
         }
         g
+    }
+
+    #[test]
+    fn residual_curvature_matches_second_differences_through_the_gauss_newton_rows() {
+        // 2 w Jᵀ r_vv at a generic point, against a second implementation: the residuals'
+        // central second differences along the direction (f64 evaluations, h = 10⁻³,
+        // error O(h²)) through the Gauss–Newton rows √(2w) ∇r.
+        let x = generic_derivatives(|t| (0.7 * t + 0.3).sin());
+        let xv = generic_derivatives(|t| 0.2 * (1.3 * t - 0.5).cos());
+        let (ws, wq) = (0.8, 0.3);
+        let residuals = |t: f64| -> [f64; RESIDUALS] {
+            let d = unpack(&std::array::from_fn::<f64, VARS, _>(|i| x[i] + t * xv[i]));
+            let (s, q) = (s_residual(&d), q_residual(&q_vars(&d)));
+            std::array::from_fn(|k| if k < 2 { s[k] } else { q[k - 2] })
+        };
+        let h = 1e-3;
+        let (minus, centre, plus) = (residuals(-h), residuals(0.0), residuals(h));
+        let mut rows = [[0.0; VARS]; RESIDUALS];
+        point_gauss_newton(&x, ws, wq, &mut rows);
+        let mut expected = [0.0; VARS];
+        for (k, row) in rows.iter().enumerate() {
+            let w = if k < 2 { ws } else { wq };
+            let second = (plus[k] - 2.0 * centre[k] + minus[k]) / (h * h);
+            for (e, r) in expected.iter_mut().zip(row) {
+                *e += (2.0 * w).sqrt() * second * r;
+            }
+        }
+        let got = point_residual_curvature(&x, &xv, ws, wq);
+        let scale = expected.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(
+            scale > 1e-3,
+            "a direction along which the residuals bend: {scale}"
+        );
+        for (g, e) in got.iter().zip(&expected) {
+            assert!((g - e).abs() <= 1e-5 * scale, "{g} vs {e}");
+        }
+    }
+
+    #[test]
+    fn residual_transpose_product_matches_the_forward_jacobian() {
+        // Jᵀu by reverse accumulation against the forward-mode Jacobian of S's residuals.
+        let x = generic_derivatives(|t| (0.7 * t + 0.3).sin());
+        let u = [0.7, -1.3];
+        let jacobian = s_residual(&s_tangents(&x));
+        let got = pack(&s_residual_transpose_product(&unpack(&x), u));
+        let expected: [f64; VARS] =
+            std::array::from_fn(|c| u[0] * jacobian[0].eps[c] + u[1] * jacobian[1].eps[c]);
+        let scale = expected.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (g, e) in got.iter().zip(&expected) {
+            assert_near!(g / scale, e / scale, ROUND_OFF);
+        }
+    }
+
+    #[test]
+    fn q_residual_transpose_product_matches_the_forward_jacobian() {
+        // Jᵀu by reverse accumulation against the forward-mode Jacobian of Q's residuals.
+        let x = generic_derivatives(|t| (0.7 * t + 0.3).sin());
+        let u = [[0.7, -1.3, 0.4], [0.2, 0.9, -0.6]];
+        let jacobian = q_residual(&q_tangents(&unpack(&x)));
+        let got = q_residual_transpose_product(&q_vars(&unpack(&x)), u);
+        let flat = u.as_flattened();
+        let scale = (0..Q_VARS).fold(0.0f64, |m, i| m.max(got[i / 3][i % 3].abs()));
+        for i in 0..Q_VARS {
+            let expected: f64 = (0..6).map(|k| flat[k] * jacobian[k].eps[i]).sum();
+            assert_near!(got[i / 3][i % 3] / scale, expected / scale, ROUND_OFF);
+        }
     }
 
     /// The largest |entry| of the difference of two point matrices over that of `b`.

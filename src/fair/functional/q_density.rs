@@ -61,6 +61,29 @@ pub fn q_density_gradient<T: Num>(q: &[V<T>; 4]) -> (T, [V<T>; 4]) {
     )
 }
 
+/// Jᵀ u for J the Jacobian of [`q_residual`] with respect to `q` (same layout), u = (u_u,
+/// u_v) over (r_u, r_v): the gradient of u · r by reverse accumulation.
+///
+/// With r = x − α n, α = (n·x)/‖n‖²: ∂(u·r)/∂x = P u and ∂(u·r)/∂n = −α u − (u·n)(x −
+/// 2 α n)/‖n‖²; p̄_u = p_v × n̄, p̄_v = n̄ × p_u.
+#[inline(always)]
+pub fn q_residual_transpose_product<T: Num>(q: &[V<T>; 4], u: [V<T>; 2]) -> [V<T>; 4] {
+    let [pu, pv, lap_u, lap_v] = q;
+    let n = cross(pu, pv);
+    let w2 = dot(&n, &n);
+    let mut n_bar = [T::constant(0.0); 3];
+    let mut x_bar = [[T::constant(0.0); 3]; 2];
+    for (k, x) in [lap_u, lap_v].into_iter().enumerate() {
+        let alpha = dot(&n, x) / w2;
+        let un = dot(&u[k], &n) / w2;
+        for i in 0..3 {
+            x_bar[k][i] = u[k][i] - un * n[i];
+            n_bar[i] = n_bar[i] - alpha * u[k][i] - un * (x[i] - (alpha * n[i]).scale(2.0));
+        }
+    }
+    [cross(pv, &n_bar), cross(&n_bar, pu), x_bar[0], x_bar[1]]
+}
+
 /// Q's density as a sum of squares: the six coordinates of P ∂Δp/∂u and P ∂Δp/∂v, with
 /// P x = x − n (n·x) / ‖n‖² (see [`q_density`]); its Jacobian gives the Gauss–Newton part.
 #[inline(always)]

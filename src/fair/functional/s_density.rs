@@ -244,79 +244,149 @@ pub fn s_density_gradient<T: Num>(d: &[V<T>; 9]) -> (T, [V<T>; 9]) {
 /// [`s_density_gradient`] and [`s_residual`] from one evaluation of H_u and H_v.
 #[inline(always)]
 pub fn s_density_gradient_residual<T: Num>(d: &[V<T>; 9]) -> (T, [V<T>; 9], [T; 2]) {
-    let zero = T::constant(0.0);
-    let base = [&d[0], &d[1], &d[2], &d[3], &d[4]];
-    let p = point(base[0], base[1], base[2], base[3], base[4]);
-    let along = directions(d);
-    let du = directional(&base, &p, &along[0]);
-    let dv = directional(&base, &p, &along[1]);
-    let (hu, hv) = (du.h, dv.h);
+    let forward = Forward::new(d);
+    let (hu, hv, p) = (forward.du.h, forward.dv.h, &forward.p);
     // D = P / w, P = hu² g − 2 hu hv f + hv² e.
     let pp = hu * hu * p.g - (hu * hv * p.f).scale(2.0) + hv * hv * p.e;
     let value = pp / p.w;
     let p_bar = T::constant(1.0) / p.w;
-    let w_bar = -value / p.w;
-    let hu_bar = p_bar * (hu * p.g - hv * p.f).scale(2.0);
-    let hv_bar = p_bar * (hv * p.e - hu * p.f).scale(2.0);
-    let mut pb = PointBar {
+    let bars = Bars {
+        hu: p_bar * (hu * p.g - hv * p.f).scale(2.0),
+        hv: p_bar * (hv * p.e - hu * p.f).scale(2.0),
         e: p_bar * hv * hv,
         f: -(p_bar * hu * hv).scale(2.0),
         g: p_bar * hu * hu,
-        n: [zero; 3],
-        w2: zero,
-        l: zero,
-        m: zero,
-        nn: zero,
-        num: zero,
-        w3: zero,
+        w: -value / p.w,
     };
-    let mut out = [[zero; 3]; 9];
-    directional_adjoint(
-        &base,
-        &p,
-        (&along[0], &du, [2, 3, 5, 6, 7]),
-        hu_bar,
-        &mut pb,
-        &mut out,
-    );
-    directional_adjoint(
-        &base,
-        &p,
-        (&along[1], &dv, [3, 4, 6, 7, 8]),
-        hv_bar,
-        &mut pb,
-        &mut out,
-    );
-    // w3 = w2 w, w = √w2.
-    let mut w2_bar = pb.w2 + pb.w3 * p.w;
-    let w_total = w_bar + pb.w3 * p.w2;
-    w2_bar = w2_bar + w_total / p.w.scale(2.0);
-    // num = e nn − 2 f m + g l.
-    pb.e = pb.e + pb.num * p.nn;
-    pb.nn = pb.nn + pb.num * p.e;
-    pb.f = pb.f - (pb.num * p.m).scale(2.0);
-    pb.m = pb.m - (pb.num * p.f).scale(2.0);
-    pb.g = pb.g + pb.num * p.l;
-    pb.l = pb.l + pb.num * p.g;
-    // l, m, nn = (puu, puv, pvv)·n.
-    for (bar, slot) in [(pb.l, 2), (pb.m, 3), (pb.nn, 4)] {
-        axpy(&mut out[slot], bar, &p.n);
-        let x = d[slot];
-        axpy(&mut pb.n, bar, &x);
+    (value, forward.backward(d, bars), residual(hu, hv, p))
+}
+
+/// Jᵀ u for J the Jacobian of [`s_residual`] with respect to the nine derivatives: the
+/// gradient of u · r by reverse accumulation, at the cost of one gradient of the density
+/// (forward mode would carry 27 tangents through every operation).
+#[inline(always)]
+pub fn s_residual_transpose_product<T: Num>(d: &[V<T>; 9], u: [T; 2]) -> [V<T>; 9] {
+    let forward = Forward::new(d);
+    let (hu, hv, p) = (forward.du.h, forward.dv.h, &forward.p);
+    // r₁ = √w hu / √e, r₂ = (e hv − f hu) / (√e √w).
+    let [r1, r2] = residual(hu, hv, p);
+    let (root_e, root_w) = (p.e.sqrt(), p.w.sqrt());
+    let k = root_e * root_w;
+    let bars = Bars {
+        hu: u[0] * root_w / root_e - u[1] * p.f / k,
+        hv: u[1] * root_e / root_w,
+        e: u[1] * hv / k - (u[0] * r1 + u[1] * r2).scale(0.5) / p.e,
+        f: -(u[1] * hu / k),
+        g: T::constant(0.0),
+        w: (u[0] * r1 - u[1] * r2).scale(0.5) / p.w,
+    };
+    forward.backward(d, bars)
+}
+
+/// The forward sweep both reverse accumulations share: the point's quantities and H_u,
+/// H_v with their intermediates.
+struct Forward<'a, T> {
+    base: [&'a V<T>; 5],
+    p: Point<T>,
+    along: [Along<'a, T>; 2],
+    du: Directional<T>,
+    dv: Directional<T>,
+}
+
+/// Adjoints of a function of (H_u, H_v, E, F, G, W) at the point, its direct dependences
+/// (W = √(EG − F²)).
+struct Bars<T> {
+    hu: T,
+    hv: T,
+    e: T,
+    f: T,
+    g: T,
+    w: T,
+}
+
+impl<'a, T: Num> Forward<'a, T> {
+    #[inline(always)]
+    fn new(d: &'a [V<T>; 9]) -> Self {
+        let base = [&d[0], &d[1], &d[2], &d[3], &d[4]];
+        let p = point(base[0], base[1], base[2], base[3], base[4]);
+        let along = directions(d);
+        let du = directional(&base, &p, &along[0]);
+        let dv = directional(&base, &p, &along[1]);
+        Forward {
+            base,
+            p,
+            along,
+            du,
+            dv,
+        }
     }
-    // w2 = e g − f².
-    pb.e = pb.e + w2_bar * p.g;
-    pb.g = pb.g + w2_bar * p.e;
-    pb.f = pb.f - (w2_bar * p.f).scale(2.0);
-    // n = pu × pv.
-    let t = cross(&d[1], &pb.n);
-    out[0] = add(&out[0], &t);
-    let t = cross(&pb.n, &d[0]);
-    out[1] = add(&out[1], &t);
-    // e = pu·pu, f = pu·pv, g = pv·pv.
-    axpy(&mut out[0], pb.e.scale(2.0), &d[0]);
-    axpy(&mut out[0], pb.f, &d[1]);
-    axpy(&mut out[1], pb.f, &d[0]);
-    axpy(&mut out[1], pb.g.scale(2.0), &d[1]);
-    (value, out, residual(hu, hv, &p))
+
+    /// The gradient with respect to the nine derivatives of a function with adjoints
+    /// `bars`, by reverse accumulation through H_u, H_v and the point's quantities.
+    #[inline(always)]
+    fn backward(&self, d: &[V<T>; 9], bars: Bars<T>) -> [V<T>; 9] {
+        let zero = T::constant(0.0);
+        let (base, p) = (&self.base, &self.p);
+        let mut pb = PointBar {
+            e: bars.e,
+            f: bars.f,
+            g: bars.g,
+            n: [zero; 3],
+            w2: zero,
+            l: zero,
+            m: zero,
+            nn: zero,
+            num: zero,
+            w3: zero,
+        };
+        let mut out = [[zero; 3]; 9];
+        directional_adjoint(
+            base,
+            p,
+            (&self.along[0], &self.du, [2, 3, 5, 6, 7]),
+            bars.hu,
+            &mut pb,
+            &mut out,
+        );
+        directional_adjoint(
+            base,
+            p,
+            (&self.along[1], &self.dv, [3, 4, 6, 7, 8]),
+            bars.hv,
+            &mut pb,
+            &mut out,
+        );
+        // w3 = w2 w, w = √w2.
+        let mut w2_bar = pb.w2 + pb.w3 * p.w;
+        let w_total = bars.w + pb.w3 * p.w2;
+        w2_bar = w2_bar + w_total / p.w.scale(2.0);
+        // num = e nn − 2 f m + g l.
+        pb.e = pb.e + pb.num * p.nn;
+        pb.nn = pb.nn + pb.num * p.e;
+        pb.f = pb.f - (pb.num * p.m).scale(2.0);
+        pb.m = pb.m - (pb.num * p.f).scale(2.0);
+        pb.g = pb.g + pb.num * p.l;
+        pb.l = pb.l + pb.num * p.g;
+        // l, m, nn = (puu, puv, pvv)·n.
+        for (bar, slot) in [(pb.l, 2), (pb.m, 3), (pb.nn, 4)] {
+            axpy(&mut out[slot], bar, &p.n);
+            let x = d[slot];
+            axpy(&mut pb.n, bar, &x);
+        }
+        // w2 = e g − f².
+        pb.e = pb.e + w2_bar * p.g;
+        pb.g = pb.g + w2_bar * p.e;
+        pb.f = pb.f - (w2_bar * p.f).scale(2.0);
+        // n = pu × pv.
+        let t = cross(&d[1], &pb.n);
+        out[0] = add(&out[0], &t);
+        let t = cross(&pb.n, &d[0]);
+        out[1] = add(&out[1], &t);
+        // e = pu·pu, f = pu·pv, g = pv·pv.
+        axpy(&mut out[0], pb.e.scale(2.0), &d[0]);
+        axpy(&mut out[0], pb.f, &d[1]);
+        axpy(&mut out[1], pb.f, &d[0]);
+        axpy(&mut out[1], pb.g.scale(2.0), &d[1]);
+        out
+    }
 }

@@ -1,5 +1,6 @@
-//! The scalars the densities of F are written over: `f64`, and [`Tangent`], a first-order
-//! forward-mode dual number over the derivative coordinates of a quadrature point.
+//! The scalars the densities of F are written over: `f64`, [`Tangent`], a first-order
+//! forward-mode dual number over the derivative coordinates of a quadrature point, and
+//! num-dual's `Dual2_64` along one direction.
 //!
 //! The per-point Hessian is the Jacobian of the reverse-accumulated gradient
 //! ([`crate::fair::functional::s_density::s_density_gradient`]) evaluated over [`Tangent`]s
@@ -7,6 +8,8 @@
 //! second-order dual, and a value is 224 bytes instead of 3.2 kB.
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
+
+use num_dual::{Dual2_64, DualNum};
 
 /// Scalars with the arithmetic S's density needs.
 pub trait Num:
@@ -34,6 +37,24 @@ impl Num for f64 {
     #[inline(always)]
     fn sqrt(self) -> Self {
         f64::sqrt(self)
+    }
+}
+
+/// num-dual's second-order dual along one direction: a residual evaluated over it gives its
+/// second directional derivative r_vv exactly
+/// ([`crate::fair::functional::evaluation::Functional::residual_curvature`]).
+impl Num for Dual2_64 {
+    #[inline(always)]
+    fn constant(x: f64) -> Self {
+        Dual2_64::from_re(x)
+    }
+    #[inline(always)]
+    fn scale(self, k: f64) -> Self {
+        Dual2_64::new(self.re * k, self.v1 * k, self.v2 * k)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        DualNum::sqrt(&self)
     }
 }
 
