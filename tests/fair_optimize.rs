@@ -270,18 +270,18 @@ fn fair_optimize_frugal_lm_search_reaches_the_same_minimum_with_fewer_set_ups() 
 fn fair_optimize_geodesic_acceleration_reaches_the_same_minimum_in_fewer_damped_steps() {
     // Levenberg–Marquardt steps bent by their geodesic acceleration against straight ones
     // (the default). Fewer damped steps on both surfaces (measured 2026-11-28: 9 against 12
-    // on each, with 44 set-ups of H + νI against 37 and 40).
+    // on each, with 44 and 46 set-ups of H + νI against 37 and 40).
     let runs = same_minimum_on_both_surfaces(
         |o| o.newton.geodesic_acceleration = false,
         |o| o.newton.geodesic_acceleration = true,
     );
+    let damped = |r: &NewtonReport| {
+        r.iterations
+            .iter()
+            .filter(|it| it.step == StepKind::LevenbergMarquardt)
+            .count()
+    };
     for (surface, straight, bent) in runs {
-        let damped = |r: &NewtonReport| {
-            r.iterations
-                .iter()
-                .filter(|it| it.step == StepKind::LevenbergMarquardt)
-                .count()
-        };
         eprintln!(
             "{surface:?}: straight: {} damped steps, {} set-ups; bent: {} damped steps ({} \
              trials bent), {} set-ups",

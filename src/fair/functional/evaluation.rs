@@ -683,6 +683,16 @@ impl<'a, R: Representation> Functional<'a, R> {
         positions: &[[f64; 3]],
         direction: &[f64],
     ) -> Option<Vec<f64>> {
+        // The direction as a displacement of every vertex, so that its derivatives at a
+        // point come by the same linear map as the positions' (fixed vertices: 0).
+        let displacement: Vec<[f64; 3]> = self
+            .free_index
+            .iter()
+            .map(|&i| match i {
+                u32::MAX => [0.0; 3],
+                i => std::array::from_fn(|a| direction[3 * i as usize + a]),
+            })
+            .collect();
         let total = self
             .groups
             .par_chunks(chunk_len(self.groups.len()))
@@ -690,7 +700,7 @@ impl<'a, R: Representation> Functional<'a, R> {
                 let mut out = vec![0.0; 3 * self.free_count];
                 for k in chunk.iter().flat_map(|group| group.points.clone()) {
                     let (x, ws, wq) = self.point_input(k, positions);
-                    let xv = self.direction_derivatives(k, direction);
+                    let xv = point_derivatives(self.rep, k, &displacement);
                     let grad = self.arch.dispatch(PointResidualCurvature {
                         x: &x,
                         xv: &xv,
@@ -707,26 +717,6 @@ impl<'a, R: Representation> Functional<'a, R> {
             })
             .unwrap_or_else(|| vec![0.0; 3 * self.free_count]);
         total.iter().all(|x| x.is_finite()).then_some(total)
-    }
-
-    /// The 27 derivative coordinates at point `k` of the displacement `direction` of the
-    /// free vertices (3 entries each; fixed vertices do not move).
-    fn direction_derivatives(&self, k: usize, direction: &[f64]) -> [f64; VARS] {
-        let p = &self.rep.points()[k];
-        let mut xv = [0.0; VARS];
-        for (&v, c) in p.vertices.iter().zip(p.coefficients.iter()) {
-            let i = self.free_index[v as usize];
-            if i == u32::MAX {
-                continue;
-            }
-            let dv = &direction[3 * i as usize..3 * i as usize + 3];
-            for d in 0..DERIVATIVES {
-                for a in 0..3 {
-                    xv[3 * d + a] += c[d] * dv[a];
-                }
-            }
-        }
-        xv
     }
 
     /// Point `k`'s derivatives and the weights of its S and Q densities in F.

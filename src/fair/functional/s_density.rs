@@ -258,7 +258,7 @@ pub fn s_density_gradient_residual<T: Num>(d: &[V<T>; 9]) -> (T, [V<T>; 9], [T; 
         g: p_bar * hu * hu,
         w: -value / p.w,
     };
-    (value, forward.backward(d, bars), residual(hu, hv, p))
+    (value, forward.backward(bars), residual(hu, hv, p))
 }
 
 /// Jᵀ u for J the Jacobian of [`s_residual`] with respect to the nine derivatives: the
@@ -280,12 +280,13 @@ pub fn s_residual_transpose_product<T: Num>(d: &[V<T>; 9], u: [T; 2]) -> [V<T>; 
         g: T::constant(0.0),
         w: (u[0] * r1 - u[1] * r2).scale(0.5) / p.w,
     };
-    forward.backward(d, bars)
+    forward.backward(bars)
 }
 
 /// The forward sweep both reverse accumulations share: the point's quantities and H_u,
 /// H_v with their intermediates.
 struct Forward<'a, T> {
+    d: &'a [V<T>; 9],
     base: [&'a V<T>; 5],
     p: Point<T>,
     along: [Along<'a, T>; 2],
@@ -313,6 +314,7 @@ impl<'a, T: Num> Forward<'a, T> {
         let du = directional(&base, &p, &along[0]);
         let dv = directional(&base, &p, &along[1]);
         Forward {
+            d,
             base,
             p,
             along,
@@ -324,9 +326,9 @@ impl<'a, T: Num> Forward<'a, T> {
     /// The gradient with respect to the nine derivatives of a function with adjoints
     /// `bars`, by reverse accumulation through H_u, H_v and the point's quantities.
     #[inline(always)]
-    fn backward(&self, d: &[V<T>; 9], bars: Bars<T>) -> [V<T>; 9] {
+    fn backward(&self, bars: Bars<T>) -> [V<T>; 9] {
         let zero = T::constant(0.0);
-        let (base, p) = (&self.base, &self.p);
+        let (d, base, p) = (self.d, &self.base, &self.p);
         let mut pb = PointBar {
             e: bars.e,
             f: bars.f,

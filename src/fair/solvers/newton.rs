@@ -96,12 +96,13 @@ pub struct NewtonOptions {
     /// residuals' curvature: δ = v + a/2 with the geodesic acceleration a = −(B + νI)⁻¹
     /// 2 Σ w Jᵀ r_vv (Transtrum and Sethna 2012), when 2‖a‖ ≤ [`ACCELERATION_LIMIT`] ‖v‖;
     /// one more solve with the same set-up and one pass over the quadrature points per
-    /// trial ([`LmMatrix::GaussNewton`] only). Beyond the paper; off by default: it halves
-    /// the damped steps of the 223 487-vertex Catmull–Clark junction (16 against 33 in the
-    /// sixteenth session's run) and took it to the same minimum in 962.8 s against 1268.5 s
-    /// earlier the same day, but it was slower at 14 399 vertices (21.3 s against 15.5 s
-    /// Catmull–Clark, 29.0 s against 14.0 s G²) and on the G² 94 077-vertex junction
-    /// (344.5 s against 316.0 s), no faster at 56 447 (2026-11-28, README).
+    /// trial ([`LmMatrix::GaussNewton`] only). Beyond the paper; off by default. On the
+    /// 223 487-vertex Catmull–Clark junction it took 16 damped steps and 962.8 s to the
+    /// same minimum (2026-11-28), against 33 and 1328.1 s by default (sixteenth session's
+    /// bench, not rerun). It was slower on the 56 447-vertex one, 88.1 s against 81.4 s
+    /// the same day, and against earlier sessions' runs at 14 399 vertices (21.3 s against
+    /// 17.5 s Catmull–Clark, 29.0 s against 16.0 s G²) and on the G² 94 077-vertex
+    /// junction (344.5 s against 316.0 s); see the README.
     pub geodesic_acceleration: bool,
 }
 
