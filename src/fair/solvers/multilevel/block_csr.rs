@@ -1,6 +1,7 @@
 //! Symmetric sparse matrices of 3 × 3 blocks stored by rows, both triangles: the form in
-//! which the multilevel solver multiplies by the Hessian (rows in parallel, no per-thread
-//! copies of the result) and forms the coarse levels' Galerkin products Pᵀ A P.
+//! which the multilevel solver forms the coarse levels' Galerkin products Pᵀ A P (every
+//! row whole, rows in parallel) before it keeps each level by its upper triangle
+//! ([`super::symmetric_csr`]); and the prolongations.
 
 use rayon::prelude::*;
 
@@ -224,7 +225,9 @@ impl BlockCsr {
         }
     }
 
-    /// y = (A + `shift` I) x.
+    /// y = (A + `shift` I) x: the reference product of the tests (the solver multiplies
+    /// by the upper triangle, [`super::symmetric_csr::SymmetricCsr`]).
+    #[cfg(test)]
     pub fn multiply(&self, x: &[f64], shift: f64) -> Vec<f64> {
         let mut y = vec![0.0; x.len()];
         y.par_chunks_mut(3).enumerate().for_each(|(i, out)| {
@@ -239,26 +242,6 @@ impl BlockCsr {
             out.copy_from_slice(&sum);
         });
         y
-    }
-
-    /// The slot of block (`row`, `column`), if it is in the pattern.
-    pub fn slot(&self, row: usize, column: u32) -> Option<usize> {
-        let range = self.row_start[row]..self.row_start[row + 1];
-        self.columns[range.clone()]
-            .binary_search(&column)
-            .ok()
-            .map(|k| range.start + k)
-    }
-
-    /// The diagonal blocks (zero where one is not in the pattern).
-    pub fn diagonal(&self) -> Vec<Block> {
-        (0..self.size())
-            .into_par_iter()
-            .map(|i| {
-                self.slot(i, i as u32)
-                    .map_or([[0.0; 3]; 3], |k| self.values[k])
-            })
-            .collect()
     }
 
     /// The Galerkin product Pᵀ A P (the coarse level's matrix): rows in parallel, each
@@ -317,22 +300,6 @@ impl BlockCsr {
             columns,
             values,
         }
-    }
-
-    /// The upper blocks (row ≤ column) as a [`BlockHessian`], for the Cholesky factorizer.
-    pub fn to_upper(&self) -> BlockHessian {
-        let mut blocks = Vec::new();
-        let mut values = Vec::new();
-        for i in 0..self.size() {
-            for k in self.row_start[i]..self.row_start[i + 1] {
-                let j = self.columns[k];
-                if j as usize >= i {
-                    blocks.push((i as u32, j));
-                    values.push(self.values[k]);
-                }
-            }
-        }
-        BlockHessian { blocks, values }
     }
 }
 
@@ -435,7 +402,7 @@ mod tests {
             }
         }
         // Symmetric, and its upper blocks give the same matrix back.
-        let upper = coarse.to_upper();
+        let upper = super::super::symmetric_csr::SymmetricCsr::from_full(&coarse).to_upper();
         let again = UpperLayout::new(&upper, nc).fill(&upper);
         assert_eq!(again.columns, coarse.columns);
         for (x, y) in again.values.iter().zip(&coarse.values) {

@@ -8,4 +8,5 @@ pub(crate) mod coarse_start;
 pub(crate) mod hierarchy;
 pub(crate) mod multigrid;
 pub(crate) mod solver;
+pub(crate) mod symmetric_csr;
 pub(crate) mod unsubdivision;

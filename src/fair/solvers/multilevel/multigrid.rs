@@ -12,6 +12,7 @@ use std::sync::Arc;
 use rayon::prelude::*;
 
 use super::block_csr::{Block, BlockCsr, Prolongation};
+use super::symmetric_csr::SymmetricCsr;
 use crate::fair::solvers::cholesky::{Factor, Factorizer};
 
 /// Chebyshev steps before and after each coarse correction.
@@ -27,7 +28,7 @@ const LAMBDA_SAFETY: f64 = 1.15;
 
 /// The matrices of every level for one Hessian, before a shift: level 0 the Hessian.
 pub struct LevelMatrices {
-    pub matrices: Vec<Arc<BlockCsr>>,
+    pub matrices: Vec<Arc<SymmetricCsr>>,
     /// Upper bounds of λ_max(D⁻¹A) per smoothed level (all but the coarsest).
     pub lambda_max: Vec<f64>,
 }
@@ -42,13 +43,17 @@ pub struct Masses {
 }
 
 impl LevelMatrices {
-    /// The coarse levels of `fine` through `prolongations`.
-    pub fn new(fine: Arc<BlockCsr>, prolongations: &[Prolongation]) -> Self {
-        let mut matrices = vec![fine];
+    /// The coarse levels of `fine` through `prolongations`, each kept by its upper
+    /// triangle once the next coarser one is formed from both.
+    pub fn new(fine: BlockCsr, prolongations: &[Prolongation]) -> Self {
+        let mut matrices = Vec::with_capacity(prolongations.len() + 1);
+        let mut full = fine;
         for p in prolongations {
-            let coarse = matrices.last().expect("nonempty").galerkin(p);
-            matrices.push(Arc::new(coarse));
+            let coarse = full.galerkin(p);
+            matrices.push(Arc::new(SymmetricCsr::from_full(&full)));
+            full = coarse;
         }
+        matrices.push(Arc::new(SymmetricCsr::from_full(&full)));
         // The coarsest level is factored, not smoothed: no bound needed there.
         let smoothed = matrices.len() - 1;
         let lambda_max = matrices[..smoothed]
@@ -75,11 +80,14 @@ impl Masses {
             let mut level = Vec::with_capacity(mass.values.len());
             for row in 0..mass.size() {
                 for k in mass.row_start[row]..mass.row_start[row + 1] {
-                    level.push((a.slot(row, mass.columns[k])?, mass.values[k][0][0]));
+                    // The upper triangle's entries: the levels keep only those.
+                    if mass.columns[k] as usize >= row {
+                        level.push((a.slot(row, mass.columns[k])?, mass.values[k][0][0]));
+                    }
                 }
             }
             slots.push(level);
-            lambda_max.push(spectral_bound(&mass));
+            lambda_max.push(spectral_bound(&SymmetricCsr::from_full(&mass)));
         }
         Some(Masses { slots, lambda_max })
     }
@@ -87,7 +95,7 @@ impl Masses {
 
 /// One level of a V-cycle for a shift ν.
 struct Level {
-    matrix: Arc<BlockCsr>,
+    matrix: Arc<SymmetricCsr>,
     /// ν on the finest level (its matrix is the Hessian's, unshifted); 0 below (the
     /// shift ν Mₗ is in the matrix).
     shift: f64,
@@ -118,7 +126,7 @@ impl Multigrid {
             let (matrix, shift) = if l == 0 || nu == 0.0 {
                 (Arc::clone(a), if l == 0 { nu } else { 0.0 })
             } else {
-                let mut shifted = BlockCsr::clone(a);
+                let mut shifted = SymmetricCsr::clone(a);
                 for &(slot, w) in &masses.slots[l] {
                     for d in 0..3 {
                         shifted.values[slot][d][d] += nu * w;
@@ -250,7 +258,7 @@ fn inverse_spd(d: &Block, shift: f64) -> Option<Block> {
 /// power iterations from a fixed unit start, times a safety factor (a norm, so that an
 /// indefinite A still gets a finite bound; its V-cycle then fails in CG, as it should).
 /// Infinite when a diagonal block is not positive definite.
-fn spectral_bound(a: &BlockCsr) -> f64 {
+fn spectral_bound(a: &SymmetricCsr) -> f64 {
     let inverse: Option<Vec<Block>> = a.diagonal().iter().map(|d| inverse_spd(d, 0.0)).collect();
     let Some(inverse) = inverse else {
         return f64::INFINITY;

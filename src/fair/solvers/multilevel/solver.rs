@@ -15,9 +15,10 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::block_csr::{BlockCsr, Prolongation, UpperLayout};
+use super::block_csr::{Prolongation, UpperLayout};
 use super::hierarchy::Hierarchy;
 use super::multigrid::{LevelMatrices, Masses, Multigrid};
+use super::symmetric_csr::SymmetricCsr;
 use crate::fair::functional::evaluation::BlockHessian;
 use crate::fair::solvers::cholesky::{Factor, Factorizer};
 use crate::fair::solvers::pcg::{pcg_operator, CgOutcome, CgStop};
@@ -79,7 +80,7 @@ impl KrylovWork {
 
 /// H + νI with its V-cycle.
 pub struct ReadyMultigrid {
-    matrix: Arc<BlockCsr>,
+    matrix: Arc<SymmetricCsr>,
     nu: f64,
     multigrid: Multigrid,
 }
@@ -175,7 +176,7 @@ impl MultilevelSolver {
             self.layout = Some(UpperLayout::new(h, n));
         }
         let fine = self.layout.as_ref().expect("just set").fill(h);
-        let levels = Arc::new(LevelMatrices::new(Arc::new(fine), &self.prolongations));
+        let levels = Arc::new(LevelMatrices::new(fine, &self.prolongations));
         self.cached = Some((key, Arc::clone(&levels)));
         levels
     }
