@@ -13,7 +13,8 @@ use std::process::Command;
 
 use surfkit::fair::{
     optimize, optimize_observed, refine_surface, tubes, CoarseStart, FairMethod, FairOptions,
-    FairReport, RepresentationOptions, SurfaceKind, MULTILEVEL_FREE_VERTICES, PLAIN_MEMORY,
+    FairReport, RepresentationOptions, SurfaceKind, ACCELERATED_FREE_VERTICES,
+    MULTILEVEL_FREE_VERTICES, PLAIN_MEMORY,
 };
 use surfkit::limits::MemoryBudget;
 use surfkit::mesh::PolygonMesh;
@@ -133,15 +134,24 @@ fn fair_multilevel_needs_a_coarser_level() {
     assert!(err.contains("use the plain method"), "{err}");
 }
 
-/// `surfkit fair --json --max-iterations 1` on the junction of `size` quads a sector side
-/// refined `refine` times: the method the automatic choice took, the free vertices and the
-/// levels.
-fn automatic_choice(size: u32, refine: u32) -> (String, usize, Vec<usize>) {
+/// What the automatic choices of `surfkit fair` took ([`automatic_choice`]).
+struct Choice {
+    method: String,
+    free: usize,
+    sizes: Vec<usize>,
+    geodesic_acceleration: bool,
+}
+
+/// `surfkit fair --json --max-iterations 1` on the Catmull–Clark surface of the junction of
+/// `tubes` tubes of `size` quads a sector side refined `refine` times.
+fn automatic_choice(tubes: u32, size: u32, refine: u32) -> Choice {
     let dir = tempfile::tempdir().unwrap();
     let (mesh, out) = (dir.path().join("t.obj"), dir.path().join("o.obj"));
     let exe = env!("CARGO_BIN_EXE_surfkit");
     let status = Command::new(exe)
-        .args(["gen", "tubes", "--rings", "2", "--size"])
+        .args(["gen", "tubes", "--rings", "2", "--n"])
+        .arg(tubes.to_string())
+        .arg("--size")
         .arg(size.to_string())
         .arg("--refine")
         .arg(refine.to_string())
@@ -181,26 +191,41 @@ fn automatic_choice(size: u32, refine: u32) -> (String, usize, Vec<usize>) {
         .iter()
         .map(|v| v.as_u64().unwrap() as usize)
         .collect();
-    (
-        report["method"].as_str().unwrap().to_string(),
-        report["free_vertices"].as_u64().unwrap() as usize,
+    Choice {
+        method: report["method"].as_str().unwrap().to_string(),
+        free: report["free_vertices"].as_u64().unwrap() as usize,
         sizes,
-    )
+        geodesic_acceleration: report["newton"]["geodesic_acceleration"].as_bool().unwrap(),
+    }
 }
 
 #[test]
 fn fair_multilevel_is_chosen_automatically_for_large_refined_meshes() {
     // Small: a refinement with a coarser level (more than the 2000 free vertices a coarse
     // level needs), below the threshold.
-    let (method, free, sizes) = automatic_choice(7, 1);
-    assert!(free > 2000 && free < MULTILEVEL_FREE_VERTICES, "{free}");
-    assert_eq!((method.as_str(), sizes.len()), ("plain", 0));
-    let (method, free, sizes) = automatic_choice(8, 3);
-    assert_eq!(free, 54143);
-    assert!(free >= MULTILEVEL_FREE_VERTICES);
-    assert_eq!(method, "multilevel");
-    assert_eq!(sizes[0], free);
-    assert!(sizes.len() >= 3, "{sizes:?}");
+    let small = automatic_choice(3, 7, 1);
+    assert!(
+        small.free > 2000 && small.free < MULTILEVEL_FREE_VERTICES,
+        "{}",
+        small.free
+    );
+    assert_eq!((small.method.as_str(), small.sizes.len()), ("plain", 0));
+    assert!(!small.geodesic_acceleration);
+    let large = automatic_choice(3, 8, 3);
+    assert_eq!(large.free, 54143);
+    assert!(large.free >= MULTILEVEL_FREE_VERTICES);
+    assert_eq!(large.method, "multilevel");
+    assert_eq!(large.sizes[0], large.free);
+    assert!(large.sizes.len() >= 3, "{:?}", large.sizes);
+    // The geodesic acceleration from ACCELERATED_FREE_VERTICES on, on this surface: not
+    // at 54 143 free vertices, at 90 237.
+    assert!(large.free < ACCELERATED_FREE_VERTICES);
+    assert!(!large.geodesic_acceleration);
+    let largest = automatic_choice(5, 8, 3);
+    assert_eq!(largest.free, 90237);
+    assert!(largest.free >= ACCELERATED_FREE_VERTICES);
+    assert_eq!(largest.method, "multilevel");
+    assert!(largest.geodesic_acceleration);
 }
 
 #[test]

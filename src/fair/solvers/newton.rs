@@ -96,14 +96,16 @@ pub struct NewtonOptions {
     /// residuals' curvature: δ = v + a/2 with the geodesic acceleration a = −(B + νI)⁻¹
     /// 2 Σ w Jᵀ r_vv (Transtrum and Sethna 2012), when 2‖a‖ ≤ [`ACCELERATION_LIMIT`] ‖v‖;
     /// one more solve with the same set-up and one pass over the quadrature points per
-    /// trial ([`LmMatrix::GaussNewton`] only). Beyond the paper; off by default. On the
+    /// trial ([`LmMatrix::GaussNewton`] only). Beyond the paper. `None`: as
+    /// [`crate::fair::optimize`] chooses by surface and size
+    /// ([`crate::fair::accelerate_by_default`]), off in a bare [`newton`]. On the
     /// 223 487-vertex Catmull–Clark junction it took 16 damped steps and 962.8 s to the
-    /// same minimum (2026-11-28), against 33 and 1328.1 s by default (sixteenth session's
+    /// same minimum (2026-11-28), against 33 and 1328.1 s without (sixteenth session's
     /// bench, not rerun). It was slower on the 56 447-vertex one, 88.1 s against 81.4 s
     /// the same day, and against earlier sessions' runs at 14 399 vertices (21.3 s against
     /// 17.5 s Catmull–Clark, 29.0 s against 16.0 s G²) and on the G² 94 077-vertex
     /// junction (344.5 s against 316.0 s); see the README.
-    pub geodesic_acceleration: bool,
+    pub geodesic_acceleration: Option<bool>,
 }
 
 /// The default of [`NewtonOptions::newton_after_decrease`]. From the raw three- and
@@ -158,7 +160,7 @@ impl Default for NewtonOptions {
             newton_after_decrease: NEWTON_AFTER_DECREASE,
             newton_backoff: true,
             lm_search: LmSearch::Exhaustive,
-            geodesic_acceleration: false,
+            geodesic_acceleration: None,
         }
     }
 }
@@ -191,8 +193,10 @@ pub struct NewtonReport {
     /// V-cycle did not serve, and their seconds (0 for the plain method).
     pub fine_factorizations: usize,
     pub fine_factorization_seconds: f64,
-    /// Levenberg–Marquardt trials whose step was bent by its geodesic acceleration
-    /// ([`NewtonOptions::geodesic_acceleration`]).
+    /// Whether the Levenberg–Marquardt steps were bent by their geodesic acceleration
+    /// ([`NewtonOptions::geodesic_acceleration`], as asked or chosen), and the trials
+    /// whose step was.
+    pub geodesic_acceleration: bool,
     pub accelerated_trials: usize,
     /// Seconds spent on geodesic accelerations (the residuals' curvature and its solve),
     /// and the conjugate-gradient iterations of those solves (in `cg_iterations` too).
@@ -238,6 +242,7 @@ impl NewtonReport {
             cg_seconds: 0.0,
             fine_factorizations: 0,
             fine_factorization_seconds: 0.0,
+            geodesic_acceleration: false,
             accelerated_trials: 0,
             acceleration_seconds: 0.0,
             acceleration_cg_iterations: 0,
@@ -824,8 +829,10 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
         passes: 0,
         forcing: 0.5,
         search: options.lm_search,
-        accelerate: options.geodesic_acceleration && options.lm_matrix == LmMatrix::GaussNewton,
+        accelerate: options.geodesic_acceleration == Some(true)
+            && options.lm_matrix == LmMatrix::GaussNewton,
     };
+    run.report.geodesic_acceleration = run.accelerate;
     if functional.free_count() == 0 || g0 == 0.0 {
         run.report.converged = true;
         return Ok(run.report);
