@@ -309,11 +309,21 @@ pub fn diagonal_block(s: f64) -> Block {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
-    /// A dense symmetric 3n × 3n matrix as upper blocks.
+    /// A dense symmetric 3n × 3n matrix as upper blocks (i, j), |i − j| ≤ 2.
     fn hessian(n: usize, seed: u64) -> (BlockHessian, Vec<Vec<f64>>) {
+        random_hessian(n, seed, |i, j| j <= i + 2)
+    }
+
+    /// A dense symmetric 3n × 3n matrix of pseudo-random entries as upper blocks, with the
+    /// blocks (i, j), i ≤ j, that `linked` accepts.
+    pub fn random_hessian(
+        n: usize,
+        seed: u64,
+        linked: impl Fn(usize, usize) -> bool,
+    ) -> (BlockHessian, Vec<Vec<f64>>) {
         let mut dense = vec![vec![0.0; 3 * n]; 3 * n];
         let mut state = seed;
         let mut next = || {
@@ -326,7 +336,7 @@ mod tests {
         let mut values = Vec::new();
         for i in 0..n {
             for j in i..n {
-                if j > i + 2 {
+                if !linked(i, j) {
                     continue;
                 }
                 let mut v: Block = std::array::from_fn(|_| std::array::from_fn(|_| next()));

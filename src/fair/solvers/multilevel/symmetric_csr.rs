@@ -169,34 +169,13 @@ impl SymmetricCsr {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fair::solvers::multilevel::block_csr::tests::random_hessian;
     use crate::fair::solvers::multilevel::block_csr::UpperLayout;
 
     /// A symmetric matrix over `n` vertices with blocks (i, j) for |i − j| ≤ 2 and
     /// (i, n − 1 − i), pseudo-random entries, as upper blocks.
     fn hessian(n: usize, seed: u64) -> BlockHessian {
-        let mut state = seed;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((state >> 11) as f64 / (1u64 << 53) as f64) - 0.5
-        };
-        let mut blocks = Vec::new();
-        let mut values = Vec::new();
-        for i in 0..n {
-            for j in i..n {
-                if j > i + 2 && j != n - 1 - i {
-                    continue;
-                }
-                let mut v: Block = std::array::from_fn(|_| std::array::from_fn(|_| next()));
-                if i == j {
-                    v = std::array::from_fn(|a| std::array::from_fn(|b| v[a.min(b)][a.max(b)]));
-                }
-                blocks.push((i as u32, j as u32));
-                values.push(v);
-            }
-        }
-        BlockHessian { blocks, values }
+        random_hessian(n, seed, |i, j| j <= i + 2 || j == n - 1 - i).0
     }
 
     #[test]
