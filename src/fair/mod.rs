@@ -198,8 +198,8 @@ pub const ACCELERATED_FREE_VERTICES: usize = 90_000;
 /// Whether [`optimize`] bends the Levenberg–Marquardt steps by their geodesic acceleration
 /// when [`NewtonOptions::geodesic_acceleration`] is `None`: on the Catmull–Clark surface,
 /// with the multilevel method, from [`ACCELERATED_FREE_VERTICES`] free vertices. Not on
-/// the G² surface, whose damped phase is short already: there it was slower at every size
-/// measured (344.5 s against 316.0 s at 90 237 free vertices, the same day).
+/// the G² surface, whose damped phase is short already: there it gained nothing at any
+/// size measured (344.5 s against 316.0 s at 90 237 free vertices, the same day).
 pub fn accelerate_by_default(surface: SurfaceKind, multilevel: bool, free: usize) -> bool {
     surface == SurfaceKind::CatmullClark && multilevel && free >= ACCELERATED_FREE_VERTICES
 }
