@@ -190,7 +190,8 @@ pub const MULTILEVEL_FREE_VERTICES: usize = 3000;
 /// The size from which [`accelerate_by_default`] bends the multilevel method's
 /// Levenberg–Marquardt steps on the Catmull–Clark surface: the smallest junction where
 /// that was measured faster. Single runs of `surfkit fair --surface catmull-clark --method
-/// multilevel` with and without `--geodesic-acceleration` (2026-11-28, README): 962.8 s
+/// multilevel` with and without `--geodesic-acceleration` (2026-11-28, the eighteenth
+/// session's and, for the runs without, earlier ones the same day; README): 962.8 s
 /// against 1268.5 s and 1328.1 s at 218 879 free vertices, 337.1 s against 368.0 s at
 /// 90 237, but 88.1 s against 81.4 s at 54 143 and 21.3 s against 17.5 s at 13 247.
 pub const ACCELERATED_FREE_VERTICES: usize = 90_000;

@@ -98,13 +98,8 @@ pub struct NewtonOptions {
     /// one more solve with the same set-up and one pass over the quadrature points per
     /// trial ([`LmMatrix::GaussNewton`] only). Beyond the paper. `None`: as
     /// [`crate::fair::optimize`] chooses by surface and size
-    /// ([`crate::fair::accelerate_by_default`]), off in a bare [`newton`]. On the
-    /// 223 487-vertex Catmull–Clark junction it took 16 damped steps and 962.8 s to the
-    /// same minimum (2026-11-28), against 33 and 1328.1 s without (sixteenth session's
-    /// bench, not rerun). It was slower on the 56 447-vertex one, 88.1 s against 81.4 s
-    /// the same day, and against earlier sessions' runs at 14 399 vertices (21.3 s against
-    /// 17.5 s Catmull–Clark, 29.0 s against 16.0 s G²) and on the G² 94 077-vertex
-    /// junction (344.5 s against 316.0 s); see the README.
+    /// ([`crate::fair::accelerate_by_default`], whose threshold's doc gives the runs it
+    /// rests on), off in a bare [`newton`].
     pub geodesic_acceleration: Option<bool>,
 }
 

@@ -116,11 +116,13 @@ impl SymmetricCsr {
                 self.row_start.partition_point(|&s| s < target).min(n)
             })
             .collect();
-        let parts: Vec<(usize, Vec<f64>)> = bounds
+        let mut parts: Vec<(usize, Vec<f64>)> = bounds
             .par_windows(2)
             .map(|w| (w[0], self.rows_product(x, shift, w[0]..w[1])))
             .collect();
-        let mut y = vec![0.0; x.len()];
+        // The first range starts at row 0: its partial result is whole, and the others are
+        // added into it.
+        let (_, mut y) = parts.remove(0);
         y.par_chunks_mut(3 * SUM_CHUNK_ROWS)
             .enumerate()
             .for_each(|(chunk, out)| {
@@ -178,13 +180,19 @@ mod tests {
         random_hessian(n, seed, |i, j| j <= i + 2 || j == n - 1 - i).0
     }
 
+    /// [`hessian`] as given, with both triangles, and by its upper one.
+    fn forms(n: usize, seed: u64) -> (BlockHessian, BlockCsr, SymmetricCsr) {
+        let h = hessian(n, seed);
+        let full = UpperLayout::new(&h, n).fill(&h);
+        let upper = SymmetricCsr::from_full(&full);
+        (h, full, upper)
+    }
+
     #[test]
     fn multiplies_as_both_triangles_on_any_number_of_threads() {
         // The second implementation: the both-triangle product of the same matrix.
         let n = 23;
-        let h = hessian(n, 5);
-        let full = UpperLayout::new(&h, n).fill(&h);
-        let upper = SymmetricCsr::from_full(&full);
+        let (h, full, upper) = forms(n, 5);
         assert_eq!(upper.values.len(), h.blocks.len());
         let x: Vec<f64> = (0..3 * n).map(|k| (k as f64 * 0.37).sin()).collect();
         let expected = full.multiply(&x, 0.25);
@@ -208,19 +216,13 @@ mod tests {
 
     #[test]
     fn keeps_the_upper_blocks_diagonal_and_slots() {
-        let n = 9;
-        let h = hessian(n, 8);
-        let full = UpperLayout::new(&h, n).fill(&h);
-        let upper = SymmetricCsr::from_full(&full);
-        let back = upper.to_upper();
-        assert_eq!(back.blocks, h.blocks);
+        let (h, full, upper) = forms(9, 8);
+        assert_eq!(upper.to_upper().blocks, h.blocks);
+        let diagonal = upper.diagonal();
         for (k, &(i, j)) in h.blocks.iter().enumerate() {
             assert_eq!(upper.slot(i as usize, j), Some(k));
             if i == j {
-                assert_eq!(
-                    upper.diagonal()[i as usize],
-                    full.values[full_slot(&full, i)]
-                );
+                assert_eq!(diagonal[i as usize], full.values[full_slot(&full, i)]);
             }
         }
         assert_eq!(upper.slot(0, 5), None);
