@@ -249,17 +249,22 @@ impl NewtonReport {
         }
     }
 
+    /// The ‖g‖ at or below which the run stops at the floor: [`FLOOR_MARGIN`] times the
+    /// last coordinate floor, once a fresh Hessian has given one.
+    fn floor_stop(&self) -> Option<f64> {
+        self.coordinate_floor.map(|floor| FLOOR_MARGIN * floor)
+    }
+
     /// Whether `gradient_norm` is within [`FLOOR_MARGIN`] of the last coordinate floor.
     fn at_coordinate_floor(&self, gradient_norm: f64) -> bool {
-        self.coordinate_floor
-            .is_some_and(|floor| gradient_norm <= FLOOR_MARGIN * floor)
+        self.floor_stop().is_some_and(|stop| gradient_norm <= stop)
     }
 
     /// The ‖g‖ at which the run stops: the gradient tolerance `tolerance` (absolute), or
-    /// [`FLOOR_MARGIN`] times the last coordinate floor where that is above it.
+    /// the floor's stop where that is above it.
     fn stopping_gradient(&self, tolerance: f64) -> f64 {
-        self.coordinate_floor
-            .map_or(tolerance, |floor| tolerance.max(FLOOR_MARGIN * floor))
+        self.floor_stop()
+            .map_or(tolerance, |stop| tolerance.max(stop))
     }
 
     /// A parenthesized remark for printed summaries: empty when converged.
