@@ -1054,13 +1054,13 @@ mod tests {
 
     #[test]
     fn a_run_stops_at_its_tolerance_or_at_twice_the_coordinates_floor_above_it() {
-        use super::{NewtonReport, FLOOR_MARGIN};
+        use super::NewtonReport;
         let mut report = NewtonReport::new(super::Terms::default(), 1.0);
         assert_eq!(report.stopping_gradient(0.05), 0.05);
         report.coordinate_floor = Some(0.01);
         assert_eq!(report.stopping_gradient(0.05), 0.05);
         report.coordinate_floor = Some(0.1);
-        assert_eq!(report.stopping_gradient(0.05), FLOOR_MARGIN * 0.1);
+        assert_eq!(report.stopping_gradient(0.05), 0.2);
         // The step from ‖g‖ = 7.55 is then solved to ½ · 0.2 / 7.55, not ½ · 0.05 / 7.55.
         let eta = forcing_term(0.01, 480.0, 7.55, report.stopping_gradient(0.05));
         assert!((eta - 0.1 / 7.55).abs() < 1e-15);
