@@ -737,12 +737,12 @@ fn gains(trial: f64, best: f64, f: f64) -> bool {
 }
 
 /// The least improvement along the Levenberg–Marquardt trajectory, as a fraction of the
-/// decrease already found, for which the walk goes on at all. As ν → 0 the steps settle on
-/// the Gauss–Newton step and F's improvements shrink with ν, 4 times per trial: traced on
-/// the 14 399-vertex junction (2026-11-29), a walk took 14 trials from ν = 7·10⁻⁴ to 10⁻¹¹,
-/// improving by 9.6·10⁻⁴, 2.2·10⁻⁴, 5.3·10⁻⁵, … 5·10⁻¹¹ of the decrease; each trial is a
-/// matrix set-up and a solve. Past this fraction the rest of such a walk would gain about a
-/// third of it.
+/// decrease already found, for which the walk goes on at all, either way. As ν → 0 (where
+/// the long walks are) the steps settle on the Gauss–Newton step and F's improvements
+/// shrink with ν, 4 times per trial: traced on the 14 399-vertex junction (2026-11-29), a
+/// walk took 14 trials from ν = 7·10⁻⁴ to 10⁻¹¹, improving by 9.6·10⁻⁴, 2.2·10⁻⁴,
+/// 5.3·10⁻⁵, … 5·10⁻¹¹ of the decrease; each trial is a matrix set-up and a solve. Past this
+/// fraction the rest of such a walk would gain about a third of it.
 const TRAJECTORY_IMPROVEMENT: f64 = 1e-4;
 
 /// Whether a trial reaching `trial` improves on the best point `best` of a search from
