@@ -604,9 +604,9 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
     /// while each trial [`gains`]), in the direction the quadratic model points to:
     /// towards longer steps (smaller ν) when the decrease matched the model's prediction
     /// (ratio ≥ 3/4) and no smaller ν has failed already, towards shorter ones when it
-    /// fell far short (ratio < 1/4), nowhere in between. (Trying both
-    /// directions every time cost 124 factorizations at 14399 vertices instead of 100, with
-    /// the same 29 Hessians, on the exact trajectory; an earlier session's measurement.)
+    /// fell far short (ratio < 1/4), nowhere in between. (Trying both directions every
+    /// time cost 124 factorizations at 14399 vertices instead of 100, with the same 29
+    /// Hessians, on the exact trajectory; an earlier session's measurement.)
     /// Traced on the 94k five-tube Catmull–Clark junction (fifteenth session), two walks
     /// went on for 15 and 12 trials, the last 8 and 6 of them lowering F by less than 10⁻³
     /// of the decrease already found, and climbs took 2 to 5 failed trials of factor 4.
@@ -662,7 +662,8 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
                 match self.lm_trial(h, best_nu * factor, g, positions, f) {
                     Some((t, _)) if t.terms.f < best_trial.terms.f => {
                         let gained = gains(t.terms.f, best_trial.terms.f, f);
-                        let settled = !improves(t.terms.f, best_trial.terms.f, f);
+                        let settled =
+                            !improves_by(TRAJECTORY_IMPROVEMENT, t.terms.f, best_trial.terms.f, f);
                         best_nu *= factor;
                         best_trial = t;
                         if gained {
@@ -731,9 +732,15 @@ const ACCELERATION_FORCING: f64 = 0.3;
 const TRAJECTORY_GAIN: f64 = 0.01;
 
 /// Whether a trial reaching `trial` improves on the best point `best` of a search from
-/// `f` by at least [`TRAJECTORY_GAIN`] of the decrease `f − best`.
+/// `f` by more than [`TRAJECTORY_GAIN`] of the decrease `f − best`.
 fn gains(trial: f64, best: f64, f: f64) -> bool {
-    best - trial > TRAJECTORY_GAIN * (f - best)
+    improves_by(TRAJECTORY_GAIN, trial, best, f)
+}
+
+/// Whether a trial reaching `trial` improves on the best point `best` of a search from
+/// `f` by more than `fraction` of the decrease `f − best`.
+fn improves_by(fraction: f64, trial: f64, best: f64, f: f64) -> bool {
+    best - trial > fraction * (f - best)
 }
 
 /// The least improvement along the Levenberg–Marquardt trajectory, as a fraction of the
@@ -744,12 +751,6 @@ fn gains(trial: f64, best: f64, f: f64) -> bool {
 /// 5.3·10⁻⁵, … 5·10⁻¹¹ of the decrease; each trial is a matrix set-up and a solve. Past this
 /// fraction the rest of such a walk would gain about a third of it.
 const TRAJECTORY_IMPROVEMENT: f64 = 1e-4;
-
-/// Whether a trial reaching `trial` improves on the best point `best` of a search from
-/// `f` by more than [`TRAJECTORY_IMPROVEMENT`] of the decrease `f − best`.
-fn improves(trial: f64, best: f64, f: f64) -> bool {
-    best - trial > TRAJECTORY_IMPROVEMENT * (f - best)
-}
 
 /// Mean absolute diagonal entry of `h` (at least the smallest positive number): the scale
 /// of ν.
@@ -1060,15 +1061,17 @@ mod tests {
     #[test]
     fn a_walk_goes_on_while_a_trial_improves_by_a_ten_thousandth_of_the_decrease() {
         // From F = 24.35 to a best of 17.12 (the 14k junction's walk): 7.23 gained.
-        assert!(super::improves(17.1190, 17.1200, 24.35));
-        assert!(!super::improves(17.1199, 17.1200, 24.35));
-        assert!(!super::improves(17.1201, 17.1200, 24.35));
+        let improves =
+            |trial, best, f| super::improves_by(super::TRAJECTORY_IMPROVEMENT, trial, best, f);
+        assert!(improves(17.1190, 17.1200, 24.35));
+        assert!(!improves(17.1199, 17.1200, 24.35));
+        assert!(!improves(17.1201, 17.1200, 24.35));
         // The traced walk's improvements (fractions of the decrease): it stops at the third
         // trial, 5.3·10⁻⁵, instead of going on for eleven more.
         let traced = [9.6e-4, 2.2e-4, 5.3e-5, 1.3e-5, 3.3e-6];
         let stop = traced
             .iter()
-            .position(|&x| !super::improves(17.12 - 7.23 * x, 17.12, 24.35));
+            .position(|&x| !improves(17.12 - 7.23 * x, 17.12, 24.35));
         assert_eq!(stop, Some(2));
     }
 
