@@ -21,8 +21,8 @@ const SMOOTHING_DEGREE: usize = 3;
 /// the coarse level's. Chosen by measurement: S and Q hold third derivatives, so on a mesh
 /// of half the spacing the modes the coarse level cannot hold reach down to about 1/64 of
 /// the largest, yet on the 56k Catmull–Clark junction (2026-11-29) /64 took 186.0 s and
-/// /10 170.6 s against 126.5 s with /20 (a wider interval damps its top less: 0.77 per
-/// degree-3 sweep against 0.48).
+/// /10 170.6 s against 126.5 s with /20 (a wider interval damps its top less: 1/T₃ gives
+/// 0.77 per degree-3 sweep against 0.48, computed, not measured).
 const SMOOTHED_RANGE: f64 = 20.0;
 /// Power iterations for λ_max(D⁻¹A), and the safety factor on their estimate (an
 /// underestimate would amplify the top of the spectrum).
