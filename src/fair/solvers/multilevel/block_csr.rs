@@ -103,6 +103,11 @@ impl Prolongation {
         self.rows.start.len() - 1
     }
 
+    /// Row `i` of P: (coarse index, weight).
+    pub fn row(&self, i: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        self.rows.row(i)
+    }
+
     /// x_fine += P x_coarse (3 coordinates per vertex).
     pub fn add_prolonged(&self, coarse: &[f64], fine: &mut [f64]) {
         fine.par_chunks_mut(3).enumerate().for_each(|(i, out)| {

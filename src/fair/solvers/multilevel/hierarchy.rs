@@ -1,7 +1,10 @@
 //! The levels of the multilevel solver: the prolongations from each coarser control mesh
 //! to the next finer one's unknowns, found by un-subdividing the mesh level by level.
 
+use std::sync::Arc;
+
 use super::block_csr::Prolongation;
+use super::patch_smoother::Patches;
 use super::unsubdivision::{coarsen, FaceList};
 use crate::mesh::PolygonMesh;
 
@@ -17,6 +20,8 @@ const MAX_LEVELS: usize = 8;
 #[derive(Debug, Clone)]
 pub struct Hierarchy {
     pub prolongations: Vec<Prolongation>,
+    /// The smoother's patches of every smoothed level (all but the coarsest).
+    pub patches: Vec<Arc<Patches>>,
 }
 
 impl Hierarchy {
@@ -77,5 +82,20 @@ pub fn hierarchy(mesh: &PolygonMesh, free_index: &[u32], free_count: usize) -> H
         unknown_of = coarse_unknown;
         count = coarse_count;
     }
-    Hierarchy { prolongations }
+    let patches = if prolongations.is_empty() {
+        Vec::new()
+    } else {
+        std::iter::once(Patches::of_mesh(mesh, free_index, free_count))
+            .chain(
+                prolongations[..prolongations.len() - 1]
+                    .iter()
+                    .map(Patches::of_prolongation),
+            )
+            .map(Arc::new)
+            .collect()
+    };
+    Hierarchy {
+        prolongations,
+        patches,
+    }
 }

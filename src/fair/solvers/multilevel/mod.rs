@@ -7,6 +7,7 @@ pub(crate) mod block_csr;
 pub(crate) mod coarse_start;
 pub(crate) mod hierarchy;
 pub(crate) mod multigrid;
+pub(crate) mod patch_smoother;
 pub(crate) mod solver;
 pub(crate) mod symmetric_csr;
 pub(crate) mod unsubdivision;

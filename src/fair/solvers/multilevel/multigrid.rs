@@ -1,10 +1,10 @@
 //! The multigrid V-cycle that preconditions the conjugate gradients of the multilevel
 //! solver: Galerkin coarse matrices Pᵀ A P through the Catmull–Clark prolongations,
-//! Chebyshev smoothing with the 3 × 3 block diagonal, a Cholesky factor at the coarsest
-//! level.
+//! Chebyshev smoothing with the 3 × 3 block diagonal or vertex patches
+//! ([`super::patch_smoother`]), a Cholesky factor at the coarsest level.
 //!
 //! Why Chebyshev: it needs only products with A (parallel, unlike Gauss–Seidel) and an
-//! upper bound of the spectrum of D⁻¹A, and it is symmetric, so the V-cycle is a
+//! upper bound of the spectrum of M⁻¹A, and it is symmetric, so the V-cycle is a
 //! symmetric positive definite preconditioner for CG.
 
 use std::sync::Arc;
@@ -12,6 +12,7 @@ use std::sync::Arc;
 use rayon::prelude::*;
 
 use super::block_csr::{Block, BlockCsr, Prolongation};
+use super::patch_smoother::{PatchSmoother, Patches};
 use super::symmetric_csr::SymmetricCsr;
 use crate::fair::solvers::cholesky::{Factor, Factorizer};
 
@@ -28,6 +29,13 @@ const SMOOTHED_RANGE: f64 = 20.0;
 /// underestimate would amplify the top of the spectrum).
 const POWER_ITERATIONS: usize = 10;
 const LAMBDA_SAFETY: f64 = 1.15;
+/// Power iterations for λ_max(M⁻¹A) of a patch smoother, made at every set-up (its
+/// factors hold the shift) from the level's last vector, and their safety factor: with
+/// 1.15 and five iterations from a fixed start the bound fell short on the refined
+/// junctions, the V-cycle turned indefinite and Levenberg–Marquardt stalled (2026-11-29);
+/// 1.5 times the block smoother's factor did not.
+const PATCH_POWER_ITERATIONS: usize = 3;
+const PATCH_LAMBDA_SAFETY: f64 = 1.5 * LAMBDA_SAFETY;
 
 /// The matrices of every level for one Hessian, before a shift: level 0 the Hessian.
 pub struct LevelMatrices {
@@ -61,7 +69,7 @@ impl LevelMatrices {
         let smoothed = matrices.len() - 1;
         let lambda_max = matrices[..smoothed]
             .iter()
-            .map(|a| spectral_bound(a))
+            .map(|a| block_diagonal_bound(a))
             .collect();
         LevelMatrices {
             matrices,
@@ -90,7 +98,7 @@ impl Masses {
                 }
             }
             slots.push(level);
-            lambda_max.push(spectral_bound(&SymmetricCsr::from_full(&mass)));
+            lambda_max.push(block_diagonal_bound(&SymmetricCsr::from_full(&mass)));
         }
         Some(Masses { slots, lambda_max })
     }
@@ -102,8 +110,26 @@ struct Level {
     /// ν on the finest level (its matrix is the Hessian's, unshifted); 0 below (the
     /// shift ν Mₗ is in the matrix).
     shift: f64,
-    inverse_diagonal: Vec<Block>,
+    smoother: Smoother,
     lambda_max: f64,
+}
+
+/// The preconditioner M⁻¹ inside a level's Chebyshev smoothing.
+enum Smoother {
+    /// The 3 × 3 block diagonal's inverses.
+    BlockDiagonal(Vec<Block>),
+    /// Additive Schwarz over vertex patches ([`super::patch_smoother`]).
+    Patches(PatchSmoother),
+}
+
+impl Smoother {
+    /// s · M⁻¹ r.
+    fn apply(&self, r: &[f64], s: f64) -> Vec<f64> {
+        match self {
+            Smoother::BlockDiagonal(blocks) => block_diagonal_product(blocks, r, s),
+            Smoother::Patches(patches) => patches.apply(r, s),
+        }
+    }
 }
 
 /// The V-cycle preconditioner of A + ν I.
@@ -114,12 +140,14 @@ pub struct Multigrid {
 }
 
 impl Multigrid {
-    /// The V-cycle of `levels`' matrices shifted by ν; `None` when a diagonal block or the
-    /// coarsest matrix is not positive definite.
+    /// The V-cycle of `levels`' matrices shifted by ν, smoothed by `patches` on the levels
+    /// they are given for (the first ones) and by the 3 × 3 block diagonal elsewhere;
+    /// `None` when a diagonal block or the coarsest matrix is not positive definite.
     pub fn new(
         levels: &LevelMatrices,
         masses: &Masses,
         prolongations: Arc<[Prolongation]>,
+        patches: &[Arc<Patches>],
         nu: f64,
         factorizer: &mut Factorizer,
     ) -> Option<Self> {
@@ -145,16 +173,31 @@ impl Multigrid {
                     coarsest,
                 });
             }
-            let inverse_diagonal = matrix
-                .diagonal()
-                .into_par_iter()
-                .map(|d| inverse_spd(&d, shift))
-                .collect::<Option<Vec<_>>>()?;
+            // A patch matrix of an indefinite Hessian may be indefinite where its 3 × 3
+            // diagonal blocks are not: that level then smooths by the blocks.
+            let patch_smoother = patches
+                .get(l)
+                .and_then(|patches| PatchSmoother::new(&matrix, shift, Arc::clone(patches)));
+            let (smoother, lambda_max) = match patch_smoother {
+                Some(smoother) => {
+                    let bound = patch_smoother_bound(&matrix, shift, &smoother);
+                    (Smoother::Patches(smoother), bound)
+                }
+                None => {
+                    let inverse_diagonal = matrix
+                        .diagonal()
+                        .into_par_iter()
+                        .map(|d| inverse_spd(&d, shift))
+                        .collect::<Option<Vec<_>>>()?;
+                    let bound = levels.lambda_max[l].max(masses.lambda_max[l]);
+                    (Smoother::BlockDiagonal(inverse_diagonal), bound)
+                }
+            };
             out.push(Level {
                 matrix,
                 shift,
-                inverse_diagonal,
-                lambda_max: levels.lambda_max[l].max(masses.lambda_max[l]),
+                smoother,
+                lambda_max,
             });
         }
         unreachable!("the loop returns at the coarsest level")
@@ -214,9 +257,9 @@ impl Level {
         }
     }
 
-    /// s · D⁻¹ r.
+    /// s · M⁻¹ r.
     fn scaled(&self, r: &[f64], s: f64) -> Vec<f64> {
-        block_diagonal_product(&self.inverse_diagonal, r, s)
+        self.smoother.apply(r, s)
     }
 }
 
@@ -261,26 +304,60 @@ fn inverse_spd(d: &Block, shift: f64) -> Option<Block> {
 /// power iterations from a fixed unit start, times a safety factor (a norm, so that an
 /// indefinite A still gets a finite bound; its V-cycle then fails in CG, as it should).
 /// Infinite when a diagonal block is not positive definite.
-fn spectral_bound(a: &SymmetricCsr) -> f64 {
+fn block_diagonal_bound(a: &SymmetricCsr) -> f64 {
     let inverse: Option<Vec<Block>> = a.diagonal().iter().map(|d| inverse_spd(d, 0.0)).collect();
     let Some(inverse) = inverse else {
         return f64::INFINITY;
     };
+    let m_inverse = |r: &[f64]| block_diagonal_product(&inverse, r, 1.0);
+    LAMBDA_SAFETY * power_iterations(a, 0.0, &m_inverse, POWER_ITERATIONS, None).0
+}
+
+/// The bound of λ_max(M⁻¹(A + shift·I)) for a patch smoother: its power iterations from
+/// the level's last vector (the matrices of one run differ little), never under the most
+/// patches a vertex lies in (λ_max where A is block diagonal).
+fn patch_smoother_bound(a: &SymmetricCsr, shift: f64, smoother: &PatchSmoother) -> f64 {
+    let patches = &smoother.patches;
+    let start = patches.power_start.lock().ok().and_then(|mut s| s.take());
+    let (estimate, last) = power_iterations(
+        a,
+        shift,
+        &|r: &[f64]| smoother.apply(r, 1.0),
+        PATCH_POWER_ITERATIONS,
+        start,
+    );
+    if let Ok(mut kept) = patches.power_start.lock() {
+        *kept = Some(last);
+    }
+    (PATCH_LAMBDA_SAFETY * estimate).max(LAMBDA_SAFETY * patches.most_overlapping() as f64)
+}
+
+/// The largest ‖M⁻¹(A + shift·I) x‖ over power iterations on unit vectors x from `start`
+/// (a fixed vector if `None`): a lower estimate of λ_max(M⁻¹(A + shift·I)) that converges
+/// to it; at least 1. With the last iterate.
+fn power_iterations(
+    a: &SymmetricCsr,
+    shift: f64,
+    m_inverse: &dyn Fn(&[f64]) -> Vec<f64>,
+    iterations: usize,
+    start: Option<Vec<f64>>,
+) -> (f64, Vec<f64>) {
     let n = 3 * a.size();
-    let mut x: Vec<f64> = (0..n)
-        .map(|k| 1.0 + ((k * 7919) % 101) as f64 / 101.0)
-        .collect();
+    let mut x: Vec<f64> = start.filter(|x| x.len() == n).unwrap_or_else(|| {
+        (0..n)
+            .map(|k| 1.0 + ((k * 7919) % 101) as f64 / 101.0)
+            .collect()
+    });
     let mut estimate: f64 = 1.0;
-    for _ in 0..POWER_ITERATIONS {
+    for _ in 0..iterations {
         let norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
         if !(norm > 0.0 && norm.is_finite()) {
             break;
         }
         x.iter_mut().for_each(|v| *v /= norm);
-        let y = block_diagonal_product(&inverse, &a.multiply(&x, 0.0), 1.0);
-        // ‖D⁻¹A x‖ for a unit x: a lower bound of λ_max that converges to it.
+        let y = m_inverse(&a.multiply(&x, shift));
         estimate = estimate.max(y.iter().map(|v| v * v).sum::<f64>().sqrt());
         x = y;
     }
-    LAMBDA_SAFETY * estimate
+    (estimate, x)
 }

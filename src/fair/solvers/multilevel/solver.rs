@@ -18,6 +18,7 @@ use std::time::Instant;
 use super::block_csr::{Prolongation, UpperLayout};
 use super::hierarchy::Hierarchy;
 use super::multigrid::{LevelMatrices, Masses, Multigrid};
+use super::patch_smoother::Patches;
 use super::symmetric_csr::SymmetricCsr;
 use crate::fair::functional::evaluation::BlockHessian;
 use crate::fair::solvers::cholesky::{Factor, Factorizer};
@@ -88,6 +89,7 @@ pub struct ReadyMultigrid {
 /// See the module documentation.
 pub struct MultilevelSolver {
     prolongations: Arc<[Prolongation]>,
+    patches: Vec<Arc<Patches>>,
     layout: Option<UpperLayout>,
     masses: Option<Masses>,
     /// The levels of the last matrix readied, by key: a Levenberg–Marquardt search readies
@@ -108,6 +110,7 @@ impl MultilevelSolver {
         let coarsest = *sizes.last().expect("at least one level");
         MultilevelSolver {
             prolongations: hierarchy.prolongations.into(),
+            patches: hierarchy.patches,
             layout: None,
             masses: None,
             cached: None,
@@ -194,6 +197,8 @@ impl StepSolver for MultilevelSolver {
             &levels,
             self.masses.as_ref().expect("just set"),
             Arc::clone(&self.prolongations),
+            // Patch smoothing for the Newton steps only: see `patch_smoother`.
+            if nu == 0.0 { &self.patches } else { &[] },
             nu,
             &mut self.coarsest,
         )?;
@@ -323,6 +328,34 @@ mod tests {
             // A V-cycle that did nothing would need hundreds of iterations here.
             assert!(iterations < 60, "ν {nu:e}: {iterations} CG iterations");
         }
+    }
+
+    #[test]
+    fn newton_solves_smooth_by_patches_in_fewer_iterations_to_the_same_step() {
+        // ν = 0, as in a Newton step, on the (positive definite) Gauss–Newton matrix: the
+        // patch-smoothed V-cycle reaches the Cholesky step, in fewer CG iterations than
+        // the same V-cycle smoothed by the 3 × 3 blocks.
+        let (levels, hessians, free) = junction();
+        let mut blocks_only = levels.clone();
+        blocks_only.patches.clear();
+        let mut cholesky = CholeskySolver(Factorizer::new(free));
+        let g = &hessians.gradient;
+        let gn = hessians.gauss_newton.as_ref().unwrap();
+        let direct = cholesky.ready(gn, 1, 0.0).expect("positive definite");
+        let expected = cholesky.solve(&direct, g, 0.0).unwrap();
+        let size = expected.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let mut iterations = Vec::new();
+        for levels in [levels, blocks_only] {
+            let mut multilevel = MultilevelSolver::new(levels, false);
+            let ready = multilevel.ready(gn, 1, 0.0).expect("positive definite");
+            let got = multilevel.solve(&ready, g, 1e-10).unwrap();
+            assert!(distance(&got, &expected) <= 1e-7 * size);
+            iterations.push(multilevel.krylov_work().0);
+        }
+        assert!(
+            iterations[0] < iterations[1],
+            "CG iterations with patches, with blocks: {iterations:?}"
+        );
     }
 
     #[test]
