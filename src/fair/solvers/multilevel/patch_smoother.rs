@@ -9,7 +9,8 @@
 //! smoother that relaxes one vertex at a time cannot reduce it, on any level: with patch
 //! smoothing on every smoothed level the probe's residual after 50 iterations fell from
 //! 1.9 to 6.7·10⁻⁴ at 54 143 free vertices (from 5.8·10⁻³ to 1.9·10⁻¹³ at 13 247), where
-//! patches on the finest level alone reached only 0.81 (README, twenty-fourth session).
+//! patches on the finest level alone reached only 1.4·10⁻² after 100 (README,
+//! twenty-fourth session).
 //!
 //! A patch per vertex made each V-cycle three times the block smoother's and its set-up
 //! twice, more than the iterations saved (56k junction: 189.1 s against 138.5 s); a cover
@@ -148,9 +149,9 @@ impl Patches {
 /// The lists, each cut to [`MAX_PATCH_VERTICES`], whose own vertex no list kept before
 /// holds: every vertex in a patch, with about a quarter of the patches on a refined mesh
 /// (there the face points' 3 × 3 patches, overlapping by one row; a mesh's vertices come
-/// from OpenSubdiv face points first). Measured against every vertex's patch on the
-/// three-tube junction's Newton solves (2026-11-29): 81 CG iterations against 99 at
-/// 14 399 vertices, at 0.043 s against 0.094 s each.
+/// from OpenSubdiv face points first). Measured against every vertex's patch, both on
+/// every solve of the 14 399-vertex three-tube junction's run (2026-11-29): 81 CG
+/// iterations against 99, at 0.043 s against 0.094 s each.
 fn cover(lists: Vec<Vec<u32>>, vertex_count: usize) -> Vec<Vec<u32>> {
     let mut covered = vec![false; vertex_count];
     lists
@@ -255,12 +256,7 @@ impl PatchSmoother {
 fn gather_patch_matrix(a: &SymmetricCsr, shift: f64, vertices: &[u32], packed: &mut [f64]) {
     for (li, &i) in vertices.iter().enumerate() {
         for (lj, &j) in vertices.iter().enumerate().take(li + 1) {
-            // Block (i, j) of the symmetric matrix, from the stored upper triangle.
-            let block = if i <= j {
-                a.slot(i as usize, j).map(|s| a.values[s])
-            } else {
-                a.slot(j as usize, i).map(|s| transpose(&a.values[s]))
-            };
+            let block = a.block(i, j);
             for x in 0..3 {
                 let row = 3 * li + x;
                 for y in 0..3 {
@@ -279,14 +275,9 @@ fn gather_patch_matrix(a: &SymmetricCsr, shift: f64, vertices: &[u32], packed: &
     }
 }
 
-fn transpose(b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    std::array::from_fn(|x| std::array::from_fn(|y| b[y][x]))
-}
-
 /// In place, the Cholesky factor L (A = L Lᵀ) of the packed lower triangle of an m × m
-/// matrix; false unless positive definite. Hand-written: hundreds of thousands of
-/// matrices of at most 75 rows, where a general dense routine's set-up per call would
-/// cost more than the factorization.
+/// matrix; false unless positive definite. Hand-written for packed storage of tens of
+/// thousands of matrices of at most 75 rows (not measured against faer's dense LLᵀ).
 fn cholesky_packed(packed: &mut [f64], m: usize) -> bool {
     let at = |r: usize, c: usize| r * (r + 1) / 2 + c;
     for j in 0..m {

@@ -73,6 +73,19 @@ impl SymmetricCsr {
             .map(|k| range.start + k)
     }
 
+    /// Block (`row`, `column`) of the symmetric matrix, either side of the diagonal (the
+    /// stored block transposed below it), if it is in the pattern.
+    pub fn block(&self, row: u32, column: u32) -> Option<Block> {
+        if row <= column {
+            self.slot(row as usize, column).map(|s| self.values[s])
+        } else {
+            let upper = self.values[self.slot(column as usize, row)?];
+            Some(std::array::from_fn(|a| {
+                std::array::from_fn(|b| upper[b][a])
+            }))
+        }
+    }
+
     /// The diagonal blocks (zero where one is not in the pattern).
     pub fn diagonal(&self) -> Vec<Block> {
         (0..self.size())
@@ -226,5 +239,13 @@ mod tests {
             }
         }
         assert_eq!(upper.slot(0, 5), None);
+        // Every block of the full matrix, above and below the diagonal.
+        for i in 0..9u32 {
+            let range = full.row_start[i as usize]..full.row_start[i as usize + 1];
+            for k in range {
+                assert_eq!(upper.block(i, full.columns[k]), Some(full.values[k]));
+            }
+        }
+        assert_eq!(upper.block(5, 0), None);
     }
 }
