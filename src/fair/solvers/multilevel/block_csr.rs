@@ -1,6 +1,6 @@
 //! Symmetric sparse matrices of 3 × 3 blocks stored by rows, both triangles: the form in
 //! which the multilevel solver forms the coarse levels' Galerkin products Pᵀ A P (every
-//! row whole, rows in parallel) before it keeps each level by its upper triangle
+//! row whole, [`super::galerkin`]) before it keeps each level by its upper triangle
 //! ([`super::symmetric_csr`]); and the prolongations.
 
 use rayon::prelude::*;
@@ -106,6 +106,11 @@ impl Prolongation {
     /// Row `i` of P: (coarse index, weight).
     pub fn row(&self, i: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
         self.rows.row(i)
+    }
+
+    /// Column `c` of P: (fine index, weight).
+    pub fn column(&self, c: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        self.transposed.row(c)
     }
 
     /// x_fine += P x_coarse (3 coordinates per vertex).
@@ -248,64 +253,6 @@ impl BlockCsr {
         });
         y
     }
-
-    /// The Galerkin product Pᵀ A P (the coarse level's matrix): rows in parallel, each
-    /// accumulated densely over the coarse vertices its fine vertices reach.
-    pub fn galerkin(&self, p: &Prolongation) -> BlockCsr {
-        let nc = p.coarse_count;
-        let rows: Vec<(Vec<u32>, Vec<Block>)> = (0..nc)
-            .into_par_iter()
-            .map_init(
-                || (vec![[[0.0; 3]; 3]; nc], vec![false; nc], Vec::new()),
-                |(acc, seen, touched), coarse_row| {
-                    for (i, wi) in p.transposed.row(coarse_row) {
-                        for k in self.row_start[i]..self.row_start[i + 1] {
-                            let j = self.columns[k] as usize;
-                            let v = &self.values[k];
-                            for (c, wj) in p.rows.row(j) {
-                                let w = wi * wj;
-                                if !seen[c] {
-                                    seen[c] = true;
-                                    touched.push(c as u32);
-                                }
-                                let out = &mut acc[c];
-                                for a in 0..3 {
-                                    for b in 0..3 {
-                                        out[a][b] += w * v[a][b];
-                                    }
-                                }
-                            }
-                        }
-                    }
-                    touched.sort_unstable();
-                    let values = touched
-                        .iter()
-                        .map(|&c| {
-                            seen[c as usize] = false;
-                            std::mem::replace(&mut acc[c as usize], [[0.0; 3]; 3])
-                        })
-                        .collect();
-                    (std::mem::take(touched), values)
-                },
-            )
-            .collect();
-        let mut row_start = Vec::with_capacity(nc + 1);
-        row_start.push(0);
-        for (columns, _) in &rows {
-            row_start.push(row_start.last().expect("starts at 0") + columns.len());
-        }
-        let mut columns = Vec::with_capacity(*row_start.last().expect("nonempty"));
-        let mut values = Vec::with_capacity(columns.capacity());
-        for (c, v) in rows {
-            columns.extend(c);
-            values.extend(v);
-        }
-        BlockCsr {
-            row_start,
-            columns,
-            values,
-        }
-    }
 }
 
 /// s · I₃.
@@ -366,7 +313,7 @@ pub(super) mod tests {
         (BlockHessian { blocks, values }, dense)
     }
 
-    fn dense_product(m: &[Vec<f64>], x: &[f64]) -> Vec<f64> {
+    pub fn dense_product(m: &[Vec<f64>], x: &[f64]) -> Vec<f64> {
         m.iter()
             .map(|row| row.iter().zip(x).map(|(a, b)| a * b).sum())
             .collect()
@@ -383,49 +330,6 @@ pub(super) mod tests {
         }
         for (y, e) in a.multiply(&x, 0.5).iter().zip(&expected) {
             assert!((y - e).abs() < 1e-14, "{y} {e}");
-        }
-    }
-
-    #[test]
-    fn galerkin_product_is_pt_a_p() {
-        let n = 7;
-        let (h, dense) = hessian(n, 11);
-        let a = UpperLayout::new(&h, n).fill(&h);
-        // Coarse vertex c ↦ fine 2c with weight 1 and its neighbours with ½.
-        let nc = 4;
-        let rows: Vec<Vec<(u32, f64)>> = (0..n)
-            .map(|i| {
-                if i % 2 == 0 {
-                    vec![(i as u32 / 2, 1.0)]
-                } else {
-                    vec![(i as u32 / 2, 0.5), (i as u32 / 2 + 1, 0.5)]
-                }
-            })
-            .collect();
-        let p = Prolongation::new(nc, &rows);
-        let coarse = a.galerkin(&p);
-        // Column by column: Pᵀ A P e = restrict(A (P e)).
-        for k in 0..3 * nc {
-            let mut e = vec![0.0; 3 * nc];
-            e[k] = 1.0;
-            let mut fine = vec![0.0; 3 * n];
-            p.add_prolonged(&e, &mut fine);
-            let expected = p.restrict(&dense_product(&dense, &fine));
-            let got = coarse.multiply(&e, 0.0);
-            for (g, x) in got.iter().zip(&expected) {
-                assert!((g - x).abs() < 1e-14, "column {k}: {g} {x}");
-            }
-        }
-        // Symmetric, and its upper blocks give the same matrix back.
-        let upper = super::super::symmetric_csr::SymmetricCsr::from_full(&coarse).to_upper();
-        let again = UpperLayout::new(&upper, nc).fill(&upper);
-        assert_eq!(again.columns, coarse.columns);
-        for (x, y) in again.values.iter().zip(&coarse.values) {
-            for a in 0..3 {
-                for b in 0..3 {
-                    assert!((x[a][b] - y[a][b]).abs() < 1e-14);
-                }
-            }
         }
     }
 }

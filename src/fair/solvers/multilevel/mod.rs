@@ -5,6 +5,7 @@
 
 pub(crate) mod block_csr;
 pub(crate) mod coarse_start;
+pub(crate) mod galerkin;
 pub(crate) mod hierarchy;
 pub(crate) mod multigrid;
 pub(crate) mod patch_smoother;
