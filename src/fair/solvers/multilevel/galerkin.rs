@@ -13,8 +13,9 @@ use rayon::prelude::*;
 
 use super::block_csr::{Block, BlockCsr, Prolongation};
 
-/// Coarse rows per task: enough that the fine rows shared with the neighbouring tasks
-/// (formed in both) are few, few enough that a task's rows of A P stay small.
+/// Coarse rows per task: many, so that the fine rows a task shares with its neighbours
+/// (formed in both) are few of its own, and few enough that its rows of A P stay small
+/// (megabytes). Not tuned: the first value tried.
 const COARSE_ROWS_PER_TASK: usize = 512;
 
 impl BlockCsr {
