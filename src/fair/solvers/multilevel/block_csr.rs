@@ -265,7 +265,7 @@ pub(super) mod tests {
     use super::*;
 
     /// A dense symmetric 3n × 3n matrix as upper blocks (i, j), |i − j| ≤ 2.
-    fn hessian(n: usize, seed: u64) -> (BlockHessian, Vec<Vec<f64>>) {
+    pub fn hessian(n: usize, seed: u64) -> (BlockHessian, Vec<Vec<f64>>) {
         random_hessian(n, seed, |i, j| j <= i + 2)
     }
 
