@@ -24,3 +24,9 @@ pub mod tolerance;
 pub mod topology;
 
 pub use error::{Error, Result};
+
+/// Large blocks on transparent huge pages (`ffi::huge_pages` says why); in every artifact
+/// built on this crate: the CLI, the C ABI and the Python module.
+#[cfg(target_os = "linux")]
+#[global_allocator]
+static ALLOCATOR: ffi::huge_pages::HugePageAllocator = ffi::huge_pages::HugePageAllocator;
