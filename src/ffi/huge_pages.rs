@@ -130,40 +130,40 @@ mod tests {
         }
     }
 
-    /// A zeroed mapping is zero (the kernel's pages, not memset).
+    /// A large zeroed block is zero even where a freed block of the same size, written
+    /// all over, came just before it (a mapping is not handed out again dirty).
     #[test]
-    fn a_large_zeroed_block_is_zero() {
+    fn a_large_zeroed_block_is_zero_after_a_dirty_one_is_freed() {
+        drop(vec![u64::MAX; MAPPED_BYTES / 8 + 1]);
         let v = vec![0u64; MAPPED_BYTES / 8 + 1];
         assert!(v.iter().all(|&x| x == 0));
+    }
+
+    /// The address range of a /proc/self/smaps mapping header (`start-end perms …`), `None`
+    /// for the mapping's detail lines.
+    fn mapping_range(line: &str) -> Option<std::ops::Range<usize>> {
+        let (start, end) = line.split_once(' ')?.0.split_once('-')?;
+        Some(usize::from_str_radix(start, 16).ok()?..usize::from_str_radix(end, 16).ok()?)
+    }
+
+    /// The `VmFlags` of the mapping that holds `address`.
+    fn flags_of(address: usize) -> Option<String> {
+        let smaps = std::fs::read_to_string("/proc/self/smaps").ok()?;
+        let mut inside = false;
+        for line in smaps.lines() {
+            if let Some(range) = mapping_range(line) {
+                inside = range.contains(&address);
+            } else if let Some(flags) = line.strip_prefix("VmFlags:").filter(|_| inside) {
+                return Some(flags.trim().to_string());
+            }
+        }
+        None
     }
 
     /// The kernel's record of a large block's mapping carries the advice (`hg` among its
     /// `VmFlags` in /proc/self/smaps), and a small block's does not.
     #[test]
     fn a_large_block_is_advised_onto_huge_pages() {
-        let flags_of = |address: usize| -> Option<String> {
-            let smaps = std::fs::read_to_string("/proc/self/smaps").ok()?;
-            let mut inside = false;
-            for line in smaps.lines() {
-                if let Some((range, _)) = line.split_once(' ') {
-                    if let Some((start, end)) = range.split_once('-') {
-                        if let (Ok(start), Ok(end)) = (
-                            usize::from_str_radix(start, 16),
-                            usize::from_str_radix(end, 16),
-                        ) {
-                            inside = (start..end).contains(&address);
-                            continue;
-                        }
-                    }
-                }
-                if inside {
-                    if let Some(flags) = line.strip_prefix("VmFlags:") {
-                        return Some(flags.trim().to_string());
-                    }
-                }
-            }
-            None
-        };
         let large = vec![1u8; MAPPED_BYTES];
         let small = vec![1u8; 4096];
         let large_flags = flags_of(large.as_ptr() as usize).expect("the block's mapping");
