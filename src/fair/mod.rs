@@ -283,15 +283,13 @@ pub const DEFAULT_HESSIAN_NODES: usize = 4;
 /// 9 and 9, 41.4 s against 56.2 s; 94 077 vertices, multilevel, 21 against the 23 of an
 /// earlier session's run with 4-node Hessians), each at
 /// 9/16 of the cost — but slowed Newton's last steps on a small Catmull–Clark junction,
-/// hence only far from the minimum. There 2 × 2 (4/9 of the 3 × 3 pass) serves as well:
-/// the damped steps' model needs no more (single runs of `surfkit fair`, 2026-11-29,
-/// against 3 × 3 the same evening, the same F every time): the 223 487-vertex
-/// Catmull–Clark junction, multilevel, 381.8 s against 498.7 s (Hessian passes 128.1 s
-/// against 188.4 s); its 14 399-vertex one in three vertex numberings 9.7, 6.9 and 12.3 s
-/// against 11.0, 11.2 and 17.7 s, plain 17.4 s against 18.6 s; on the G² surface 43.0 s
-/// against 51.3 s at 56 447 vertices, 9.8 s against 9.9 s at 14 399 (plain 16.9 s against
-/// 18.1 s).
-pub const DEFAULT_FAR_HESSIAN_NODES: usize = 2;
+/// hence only far from the minimum. Not 2 × 2, though it is faster on the large
+/// junctions (the 223 487-vertex Catmull–Clark one: 381.8 s against 498.7 s, the same F,
+/// single runs 2026-11-29): on the 53-vertex Catmull–Clark junction its Newton trials
+/// after damped steps never succeed, and the run crawls along the Levenberg–Marquardt
+/// trajectory to its iteration limit (‖g‖/‖g₀‖ 7·10⁻¹¹ after 200 iterations, where 3 × 3
+/// reaches the floor in 15).
+pub const DEFAULT_FAR_HESSIAN_NODES: usize = 3;
 
 /// What [`optimize`] did.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
