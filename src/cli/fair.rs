@@ -85,8 +85,8 @@ pub struct FairArgs {
     #[arg(long, default_value_t = DEFAULT_HESSIAN_NODES)]
     pub hessian_nodes: usize,
     /// Nodes per direction for the Hessians far from the minimum (from the start and after
-    /// Levenberg–Marquardt steps, whose damped steps gain nothing from a finer model), at
-    /// most --hessian-nodes.
+    /// Levenberg–Marquardt steps that lowered F by at least 10⁻³ of it, whose damped steps
+    /// gain nothing from a finer model), at most --hessian-nodes.
     #[arg(long, default_value_t = DEFAULT_FAR_HESSIAN_NODES)]
     pub far_hessian_nodes: usize,
     /// Cᵢ of elements at special vertices (ordinary elements: 1). Default: 1 on the G²

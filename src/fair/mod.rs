@@ -44,7 +44,8 @@ pub use solvers::coordinate_floor::{coordinate_floor, ulp};
 pub use solvers::levels::{optimize_levels, optimize_levels_observed, CoarseToFine, LevelReport};
 pub use solvers::newton::{
     newton, newton_observed, newton_observed_with_hessians, HessianSources, Iteration, LmMatrix,
-    LmSearch, NewtonOptions, NewtonReport, StepKind, FLOOR_MARGIN, NEWTON_AFTER_DECREASE,
+    LmSearch, NewtonOptions, NewtonReport, StepKind, FAR_MODEL_DECREASE, FLOOR_MARGIN,
+    NEWTON_AFTER_DECREASE,
 };
 pub use solvers::pcg::{multiply, pcg, pcg_operator, CgOutcome, CgStop};
 pub use solvers::schwarz::Schwarz;
@@ -129,7 +130,8 @@ pub struct FairOptions {
     /// inexact. The author's program does the same (Hessians at 6 × 6, F at 8 × 8).
     /// Default [`DEFAULT_HESSIAN_NODES`]; `None`: the Hessians use F's nodes.
     pub hessian_nodes: Option<usize>,
-    /// Nodes per direction for the Hessians far from the minimum, at most those of
+    /// Nodes per direction for the Hessians far from the minimum (from the start and after
+    /// damped steps that still gain, [`FAR_MODEL_DECREASE`]), at most those of
     /// `hessian_nodes` ([`HessianSources::far`]). Default [`DEFAULT_FAR_HESSIAN_NODES`];
     /// `None`: those of `hessian_nodes`.
     pub far_hessian_nodes: Option<usize>,
@@ -283,13 +285,15 @@ pub const DEFAULT_HESSIAN_NODES: usize = 4;
 /// 9 and 9, 41.4 s against 56.2 s; 94 077 vertices, multilevel, 21 against the 23 of an
 /// earlier session's run with 4-node Hessians), each at
 /// 9/16 of the cost — but slowed Newton's last steps on a small Catmull–Clark junction,
-/// hence only far from the minimum. Not 2 × 2, though it is faster on the large
-/// junctions (the 223 487-vertex Catmull–Clark one: 381.8 s against 498.7 s, the same F,
-/// single runs 2026-11-29): on the 53-vertex Catmull–Clark junction its Newton trials
-/// after damped steps never succeed, and the run crawls along the Levenberg–Marquardt
-/// trajectory to its iteration limit (‖g‖/‖g₀‖ 7·10⁻¹¹ after 200 iterations, where 3 × 3
-/// reaches the floor in 15).
-pub const DEFAULT_FAR_HESSIAN_NODES: usize = 3;
+/// hence only far from the minimum. There 2 × 2 (4/9 of a 3 × 3 pass) serves as well
+/// while the damped steps gain, and [`FAR_MODEL_DECREASE`] hands the Newton trials the
+/// near model once they do not (single runs of `surfkit fair`, 2026-11-29, against 3 × 3
+/// the same evening, the same F every time): the 223 487-vertex Catmull–Clark junction,
+/// multilevel, 381.8 s against 498.7 s (Hessian passes 128.1 s against 188.4 s); its
+/// 14 399-vertex one in three vertex numberings 9.7, 6.9 and 12.3 s against 11.0, 11.2 and
+/// 17.7 s, plain 17.4 s against 18.6 s; on the G² surface 43.0 s against 51.3 s at 56 447
+/// vertices, 9.8 s against 9.9 s at 14 399 (plain 16.9 s against 18.1 s).
+pub const DEFAULT_FAR_HESSIAN_NODES: usize = 2;
 
 /// What [`optimize`] did.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
