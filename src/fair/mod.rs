@@ -292,9 +292,10 @@ pub const DEFAULT_HESSIAN_NODES: usize = 4;
 /// multilevel, 381.8 s against 498.7 s (Hessian passes 128.1 s against 188.4 s); its
 /// 14 399-vertex one in three vertex numberings 9.7, 6.9 and 12.3 s against 11.0, 11.2 and
 /// 17.7 s, plain 17.4 s against 18.6 s; on the G² surface 43.0 s against 51.3 s at 56 447
-/// vertices, 9.8 s against 9.9 s at 14 399 (plain 16.9 s against 18.1 s). Not faster
-/// everywhere: the 94 077-vertex five-tube Catmull–Clark junction took 227.1 s against
-/// 215.8 s (32 steps against 25, the same F; runs an hour and a half apart).
+/// vertices (plain at 14 399: 16.9 s against 18.1 s). Not faster everywhere: the 14 399-vertex
+/// G² junction took 10.47 s against 10.26 s (15 steps against 12), the 94 077-vertex
+/// five-tube Catmull–Clark one 227.1 s against 215.8 s (32 steps against 25, runs an hour
+/// and a half apart), the same F.
 pub const DEFAULT_FAR_HESSIAN_NODES: usize = 2;
 
 /// What [`optimize`] did.

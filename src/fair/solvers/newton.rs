@@ -757,8 +757,10 @@ const TRAJECTORY_IMPROVEMENT: f64 = 1e-4;
 /// that gains more: near a minimum the Newton trials need the near model. With 2 × 2 far
 /// nodes and no such rule, the 53-vertex Catmull–Clark junction's Newton trials never
 /// succeeded and it crawled along the trajectory (relative decreases 10⁻⁵ to 10⁻⁹ a step)
-/// to the iteration limit; on the 14k to 223k junctions no damped step lowered F by less
-/// than 2·10⁻³ (2026-11-29), so there the rule changes nothing.
+/// to the iteration limit. On the three-tube Catmull–Clark junctions of 14k and 223k
+/// vertices no damped step lowered F by less than 2·10⁻³ (2026-11-29), so there the rule
+/// changes nothing; on the 14k G² one a step of 8·10⁻⁴ and on the 94k five-tube
+/// Catmull–Clark one four of 3·10⁻⁴ to 7·10⁻⁶ hand the next pass the near nodes.
 pub const FAR_MODEL_DECREASE: f64 = 1e-3;
 
 /// Mean absolute diagonal entry of `h` (at least the smallest positive number): the scale
