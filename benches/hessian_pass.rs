@@ -6,29 +6,18 @@
 //!
 //! The peer of each size is the first size's figure scaled linearly by the free vertices
 //! (the column "linear"): a pass is a sum over patches, so its work is linear. Refinements
-//! `HESSIAN_BENCH_REFINE=2,3,4` (default `2,3`; 4 is the 223 487-vertex junction, about
-//! 4 GB), surface `HESSIAN_BENCH_SURFACE` (`catmull-clark`, default, or `g2`). Each figure
-//! is the median of three passes, wall-clock on all cores.
+//! `HESSIAN_BENCH_REFINE=2,3,4` (default `2,3`; 4 is the 223 487-vertex junction),
+//! surface `HESSIAN_BENCH_SURFACE` (`catmull-clark`, default, or `g2`). The near and far
+//! nodes are `surfkit fair`'s defaults. Each figure is the median of three passes after a
+//! warm-up one, wall-clock on all cores.
 
-use std::time::Instant;
+mod support;
 
 use surfkit::fair::{
     fixed_vertices, refine_surface, tubes, Functional, HessianKind, MeshTopology,
     RepresentationOptions, SurfaceKind, SurfaceRepresentation, DEFAULT_FAR_HESSIAN_NODES,
+    DEFAULT_HESSIAN_NODES,
 };
-
-/// Median seconds of three runs of `pass`.
-fn median_seconds(mut pass: impl FnMut()) -> f64 {
-    let mut times: Vec<f64> = (0..3)
-        .map(|_| {
-            let clock = Instant::now();
-            pass();
-            clock.elapsed().as_secs_f64()
-        })
-        .collect();
-    times.sort_by(f64::total_cmp);
-    times[1]
-}
 
 fn env_list(name: &str, default: &str) -> Vec<u32> {
     std::env::var(name)
@@ -61,13 +50,19 @@ fn main() -> surfkit::Result<()> {
         let mesh = refine_surface(&tubes(3, 8, 2)?, refine)?;
         let topo = MeshTopology::new(&mesh)?;
         let fixed = fixed_vertices(&topo, 3, &[])?;
-        let near_options = match surface {
+        let options = match surface {
             SurfaceKind::CatmullClark => RepresentationOptions::catmull_clark(),
             _ => RepresentationOptions::default(),
         };
+        // As `fair::optimize` caps them: near at most F's nodes, far at most the near ones.
+        let near_nodes = DEFAULT_HESSIAN_NODES.min(options.nodes);
+        let near_options = RepresentationOptions {
+            nodes: near_nodes,
+            ..options.clone()
+        };
         let far_options = RepresentationOptions {
-            nodes: DEFAULT_FAR_HESSIAN_NODES.min(near_options.nodes),
-            ..near_options.clone()
+            nodes: DEFAULT_FAR_HESSIAN_NODES.min(near_nodes),
+            ..options
         };
         let special = topo.special_flags();
         let near = SurfaceRepresentation::new(&mesh, &topo.boundary, &special, &near_options)?;
@@ -79,7 +74,7 @@ fn main() -> surfkit::Result<()> {
         let mut seconds = Vec::new();
         for (name, kind, use_far) in passes {
             let functional = if use_far { &far } else { &near };
-            let s = median_seconds(|| match kind {
+            let s = support::median_seconds(3, || match kind {
                 Some(kind) => {
                     std::hint::black_box(functional.hessians(positions, kind));
                 }
