@@ -7,16 +7,16 @@
 //! The peer of each size is the first size's figure scaled linearly by the free vertices
 //! (the column "linear"): a pass is a sum over patches, so its work is linear. Refinements
 //! `HESSIAN_BENCH_REFINE=2,3,4` (default `2,3`; 4 is the 223 487-vertex junction),
-//! surface `HESSIAN_BENCH_SURFACE` (`catmull-clark`, default, or `g2`). The near and far
-//! nodes are `surfkit fair`'s defaults. Each figure is the median of three passes after a
+//! surface `HESSIAN_BENCH_SURFACE` (`catmull-clark`, default, or `g2`). The gradient is
+//! F's, at F's nodes; the near and far nodes are `surfkit fair`'s defaults
+//! ([`FairOptions::hessian_node_counts`]). Each figure is the median of three passes after a
 //! warm-up one, wall-clock on all cores.
 
 mod support;
 
 use surfkit::fair::{
-    fixed_vertices, refine_surface, tubes, Functional, HessianKind, MeshTopology,
-    RepresentationOptions, SurfaceKind, SurfaceRepresentation, DEFAULT_FAR_HESSIAN_NODES,
-    DEFAULT_HESSIAN_NODES,
+    fixed_vertices, refine_surface, tubes, FairOptions, Functional, HessianKind, MeshTopology,
+    RepresentationOptions, SurfaceKind, SurfaceRepresentation,
 };
 
 fn env_list(name: &str, default: &str) -> Vec<u32> {
@@ -50,30 +50,45 @@ fn main() -> surfkit::Result<()> {
         let mesh = refine_surface(&tubes(3, 8, 2)?, refine)?;
         let topo = MeshTopology::new(&mesh)?;
         let fixed = fixed_vertices(&topo, 3, &[])?;
-        let options = match surface {
-            SurfaceKind::CatmullClark => RepresentationOptions::catmull_clark(),
-            _ => RepresentationOptions::default(),
+        let fair = FairOptions {
+            representation: match surface {
+                SurfaceKind::CatmullClark => RepresentationOptions::catmull_clark(),
+                _ => RepresentationOptions::default(),
+            },
+            ..FairOptions::default()
         };
-        // As `fair::optimize` caps them: near at most F's nodes, far at most the near ones.
-        let near_nodes = DEFAULT_HESSIAN_NODES.min(options.nodes);
-        let near_options = RepresentationOptions {
-            nodes: near_nodes,
-            ..options.clone()
-        };
-        let far_options = RepresentationOptions {
-            nodes: DEFAULT_FAR_HESSIAN_NODES.min(near_nodes),
-            ..options
-        };
+        let nodes = fair.representation.nodes;
+        let (near_nodes, far_nodes) = fair.hessian_node_counts();
         let special = topo.special_flags();
-        let near = SurfaceRepresentation::new(&mesh, &topo.boundary, &special, &near_options)?;
-        let far = SurfaceRepresentation::new(&mesh, &topo.boundary, &special, &far_options)?;
-        let near = Functional::new(&near, &fixed, 1.0);
-        let far = Functional::new(&far, &fixed, 1.0);
+        let rep_at = |nodes: usize| {
+            let options = RepresentationOptions {
+                nodes,
+                ..fair.representation.clone()
+            };
+            SurfaceRepresentation::new(&mesh, &topo.boundary, &special, &options)
+        };
+        // As `fair::optimize` does: F at its nodes, a representation of fewer nodes only
+        // where the Hessians take fewer.
+        let f_rep = rep_at(nodes)?;
+        let near_rep = (near_nodes < nodes)
+            .then(|| rep_at(near_nodes))
+            .transpose()?;
+        let near_rep = near_rep.as_ref().unwrap_or(&f_rep);
+        let far_rep = (far_nodes < near_nodes)
+            .then(|| rep_at(far_nodes))
+            .transpose()?;
+        let f = Functional::new(&f_rep, &fixed, 1.0);
+        let near = Functional::new(near_rep, &fixed, 1.0);
+        let far = Functional::new(far_rep.as_ref().unwrap_or(near_rep), &fixed, 1.0);
         let free = near.free_count();
         let positions = &mesh.positions;
         let mut seconds = Vec::new();
         for (name, kind, use_far) in passes {
-            let functional = if use_far { &far } else { &near };
+            let functional = match (kind, use_far) {
+                (None, _) => &f,
+                (Some(_), true) => &far,
+                (Some(_), false) => &near,
+            };
             let s = support::median_seconds(3, || match kind {
                 Some(kind) => {
                     std::hint::black_box(functional.hessians(positions, kind));

@@ -273,6 +273,18 @@ impl Default for FairOptions {
     }
 }
 
+impl FairOptions {
+    /// The nodes per direction of the Hessians near and far from the minimum: the asked
+    /// ones, at most F's, far at most near ([`Self::hessian_nodes`],
+    /// [`Self::far_hessian_nodes`]).
+    pub fn hessian_node_counts(&self) -> (usize, usize) {
+        let nodes = self.representation.nodes;
+        let near = self.hessian_nodes.unwrap_or(nodes).min(nodes);
+        let far = self.far_hessian_nodes.unwrap_or(nodes).min(near);
+        (near, far)
+    }
+}
+
 /// Most Gauss–Legendre nodes per direction for the Newton Hessians (F keeps its own): on
 /// the author's three meshes at F's 8 × 8 (G² surface, C = 0.01, 2026-11-26) Hessians at
 /// 4 × 4 took the same Newton iterations as at 8 × 8 (10 and 10, 7 and 6, 10 and 12) to
@@ -476,8 +488,7 @@ pub fn optimize_observed(
         None => {
             // The representations of fewer nodes the Hessians come from (HessianSources).
             let nodes = options.representation.nodes;
-            let near_nodes = options.hessian_nodes.unwrap_or(nodes).min(nodes);
-            let far_nodes = options.far_hessian_nodes.unwrap_or(nodes).min(near_nodes);
+            let (near_nodes, far_nodes) = options.hessian_node_counts();
             let with_nodes = |n: usize| -> Result<Option<SurfaceRepresentation>> {
                 (n < nodes)
                     .then(|| {
@@ -690,6 +701,24 @@ fn check_solver_memory(free: usize, multilevel: bool, budget: MemoryBudget) -> R
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_hessians_take_at_most_fs_nodes_and_far_at_most_near() {
+        let with = |nodes, near, far| FairOptions {
+            representation: RepresentationOptions {
+                nodes,
+                ..RepresentationOptions::default()
+            },
+            hessian_nodes: near,
+            far_hessian_nodes: far,
+            ..FairOptions::default()
+        };
+        assert_eq!(with(8, Some(4), Some(2)).hessian_node_counts(), (4, 2));
+        assert_eq!(with(3, Some(4), Some(2)).hessian_node_counts(), (3, 2));
+        assert_eq!(with(8, Some(4), Some(6)).hessian_node_counts(), (4, 4));
+        assert_eq!(with(8, None, None).hessian_node_counts(), (8, 8));
+        assert_eq!(with(8, Some(5), None).hessian_node_counts(), (5, 5));
+    }
 
     #[test]
     fn the_solver_memory_check_names_what_fits() {
