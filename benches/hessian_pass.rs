@@ -57,26 +57,14 @@ fn main() -> surfkit::Result<()> {
             },
             ..FairOptions::default()
         };
-        let nodes = fair.representation.nodes;
-        let (near_nodes, far_nodes) = fair.hessian_node_counts();
         let special = topo.special_flags();
-        let rep_at = |nodes: usize| {
-            let options = RepresentationOptions {
-                nodes,
-                ..fair.representation.clone()
-            };
-            SurfaceRepresentation::new(&mesh, &topo.boundary, &special, &options)
-        };
-        // As `fair::optimize` does: F at its nodes, a representation of fewer nodes only
-        // where the Hessians take fewer.
-        let f_rep = rep_at(nodes)?;
-        let near_rep = (near_nodes < nodes)
-            .then(|| rep_at(near_nodes))
-            .transpose()?;
+        let f_rep =
+            SurfaceRepresentation::new(&mesh, &topo.boundary, &special, &fair.representation)?;
+        // As `fair::optimize` does: a representation of fewer nodes only where the Hessians
+        // take fewer than F.
+        let (near_rep, far_rep) =
+            fair.hessian_representations(&f_rep, &mesh, &topo.boundary, &special)?;
         let near_rep = near_rep.as_ref().unwrap_or(&f_rep);
-        let far_rep = (far_nodes < near_nodes)
-            .then(|| rep_at(far_nodes))
-            .transpose()?;
         let f = Functional::new(&f_rep, &fixed, 1.0);
         let near = Functional::new(near_rep, &fixed, 1.0);
         let far = Functional::new(far_rep.as_ref().unwrap_or(near_rep), &fixed, 1.0);

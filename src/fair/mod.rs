@@ -283,6 +283,36 @@ impl FairOptions {
         let far = self.far_hessian_nodes.unwrap_or(nodes).min(near);
         (near, far)
     }
+
+    /// The representations of `mesh` the Hessians come from where they take fewer nodes
+    /// ([`Self::hessian_node_counts`]) than `rep`, F's own: near and far, each `None`
+    /// where the next finer one serves (F's for near, near's for far). Built by
+    /// [`SurfaceRepresentation::with_options`], so the G² surface is not built again.
+    ///
+    /// # Errors
+    /// As [`SurfaceRepresentation::with_options`].
+    pub fn hessian_representations(
+        &self,
+        rep: &SurfaceRepresentation,
+        mesh: &PolygonMesh,
+        boundary: &[bool],
+        special: &[bool],
+    ) -> Result<(Option<SurfaceRepresentation>, Option<SurfaceRepresentation>)> {
+        let nodes = self.representation.nodes;
+        let (near_nodes, far_nodes) = self.hessian_node_counts();
+        let at = |n: usize, coarser_than: usize| -> Result<Option<SurfaceRepresentation>> {
+            (n < coarser_than)
+                .then(|| {
+                    let options = RepresentationOptions {
+                        nodes: n,
+                        ..self.representation.clone()
+                    };
+                    rep.with_options(mesh, boundary, special, &options)
+                })
+                .transpose()
+        };
+        Ok((at(near_nodes, nodes)?, at(far_nodes, near_nodes)?))
+    }
 }
 
 /// Most Gauss–Legendre nodes per direction for the Newton Hessians (F keeps its own): on
@@ -487,29 +517,8 @@ pub fn optimize_observed(
         ),
         None => {
             // The representations of fewer nodes the Hessians come from (HessianSources).
-            let nodes = options.representation.nodes;
-            let (near_nodes, far_nodes) = options.hessian_node_counts();
-            let with_nodes = |n: usize| -> Result<Option<SurfaceRepresentation>> {
-                (n < nodes)
-                    .then(|| {
-                        rep.with_options(
-                            &prepared,
-                            &topo.boundary,
-                            &special,
-                            &RepresentationOptions {
-                                nodes: n,
-                                ..options.representation.clone()
-                            },
-                        )
-                    })
-                    .transpose()
-            };
-            let near_rep = with_nodes(near_nodes)?;
-            let far_rep = if far_nodes < near_nodes {
-                with_nodes(far_nodes)?
-            } else {
-                None
-            };
+            let (near_rep, far_rep) =
+                options.hessian_representations(&rep, &prepared, &topo.boundary, &special)?;
             let near = near_rep
                 .as_ref()
                 .map(|r| Functional::new(r, &fixed, weight));
@@ -718,6 +727,44 @@ mod tests {
         assert_eq!(with(8, Some(4), Some(6)).hessian_node_counts(), (4, 4));
         assert_eq!(with(8, None, None).hessian_node_counts(), (8, 8));
         assert_eq!(with(8, Some(5), None).hessian_node_counts(), (5, 5));
+    }
+
+    #[test]
+    fn the_hessians_representations_are_built_only_below_the_finer_ones_nodes() {
+        use crate::fair::surface::representation::Representation;
+        let mesh = tubes(3, 1, 3).expect("a junction");
+        let topo = MeshTopology::new(&mesh).expect("a topology");
+        let special = topo.special_flags();
+        let with = |near, far| FairOptions {
+            representation: RepresentationOptions::catmull_clark(),
+            hessian_nodes: near,
+            far_hessian_nodes: far,
+            ..FairOptions::default()
+        };
+        let options = with(None, None);
+        let nodes = options.representation.nodes;
+        let f =
+            SurfaceRepresentation::new(&mesh, &topo.boundary, &special, &options.representation)
+                .expect("F's representation");
+        // Points per element: nodes² on a regular element, so the ratio of two
+        // representations' points is (n₁ / n₀)².
+        let points = |r: &SurfaceRepresentation| r.points().len() as f64;
+        let build = |o: &FairOptions| {
+            o.hessian_representations(&f, &mesh, &topo.boundary, &special)
+                .expect("built")
+        };
+        let (near, far) = build(&with(Some(nodes), Some(nodes)));
+        assert!(near.is_none() && far.is_none());
+        let (near, far) = build(&with(Some(nodes), Some(2)));
+        assert!(near.is_none());
+        let far = far.expect("far below near");
+        let ratio = (2.0 / nodes as f64).powi(2);
+        assert!((points(&far) / points(&f) - ratio).abs() < 1e-12);
+        let (near, far) = build(&with(Some(3), Some(3)));
+        let near = near.expect("near below F's");
+        assert!(far.is_none());
+        let ratio = (3.0 / nodes as f64).powi(2);
+        assert!((points(&near) / points(&f) - ratio).abs() < 1e-12);
     }
 
     #[test]
