@@ -407,9 +407,21 @@ pub struct BlockHessian {
 /// A run of consecutive quadrature points with the same control vertices (a patch).
 struct Group {
     points: Range<usize>,
-    /// Block slot of each (k, l) pair of the vertices (row-major, k ≤ l), with
-    /// [`TRANSPOSED`] set where the block's row is vertex l's; `u32::MAX` where a vertex is
-    /// fixed or the pair lies below the diagonal.
+    /// Block slot of each (k, l) pair of the vertices (row-major, k ≤ l) in its
+    /// [`Share`]'s blocks, with [`TRANSPOSED`] set where the block's row is vertex l's;
+    /// `u32::MAX` where a vertex is fixed or the pair lies below the diagonal.
+    slots: Vec<u32>,
+}
+
+/// One of the [`TASKS`] runs of groups whose Hessian blocks one task sums.
+///
+/// Why its own blocks: a task's patches touch about an eighth of the matrix, and partial
+/// sums of the whole matrix per task were eight arrays of the Hessian's size to zero and
+/// add at every pass (3.2 GB at 223 487 vertices, where the kernel's zeroing of their
+/// fresh pages was 5 % of the run's samples in a profile, 2026-11-30).
+struct Share {
+    groups: Range<usize>,
+    /// The blocks its groups touch, ascending: the global slot of each of its own.
     slots: Vec<u32>,
 }
 
@@ -457,9 +469,9 @@ impl Partial {
         }
     }
 
-    /// The sum of `parts`, added in their order (the same sums, bit for bit, as merging
-    /// them one after another), every array's entries in parallel: a sequential merge
-    /// read and wrote each Hessian array 7 times on one core while the other waited.
+    /// The terms and gradient of `parts` summed in their order (the same sums, bit for bit,
+    /// as merging them one after another), the gradient's entries in parallel. Their
+    /// Hessian blocks, each part's its share's, are summed by [`gather_blocks`].
     fn merge_all(parts: Vec<Partial>) -> Option<Partial> {
         let mut parts = parts.into_iter();
         let mut total = parts.next()?;
@@ -469,18 +481,6 @@ impl Partial {
             total.terms.q += p.terms.q;
         }
         add_in_order(&mut total.g, rest.iter().map(|p| p.g.as_slice()));
-        add_in_order(
-            total.values.as_flattened_mut().as_flattened_mut(),
-            rest.iter().map(|p| p.values.as_flattened().as_flattened()),
-        );
-        add_in_order(
-            total
-                .gauss_newton_values
-                .as_flattened_mut()
-                .as_flattened_mut(),
-            rest.iter()
-                .map(|p| p.gauss_newton_values.as_flattened().as_flattened()),
-        );
         Some(total)
     }
 }
@@ -515,6 +515,7 @@ pub struct Functional<'a, R: Representation> {
     free_count: usize,
     blocks: Vec<(u32, u32)>,
     groups: Vec<Group>,
+    shares: Vec<Share>,
     arch: pulp::Arch,
 }
 
@@ -527,6 +528,66 @@ const TASKS: usize = 8;
 fn chunk_len(n: usize) -> usize {
     n.div_ceil(TASKS).max(1)
 }
+
+/// The [`TASKS`] shares of `groups` (chunks of [`chunk_len`], as the gradient's), each
+/// group's slots turned from global block slots into its share's.
+fn shares(groups: &mut [Group]) -> Vec<Share> {
+    let len = chunk_len(groups.len());
+    let mut shares = Vec::with_capacity(TASKS);
+    for (t, chunk) in groups.chunks_mut(len).enumerate() {
+        let mut slots: Vec<u32> = chunk
+            .iter()
+            .flat_map(|g| &g.slots)
+            .filter(|&&s| s != u32::MAX)
+            .map(|&s| s & !TRANSPOSED)
+            .collect();
+        slots.sort_unstable();
+        slots.dedup();
+        for group in chunk.iter_mut() {
+            for s in group.slots.iter_mut().filter(|s| **s != u32::MAX) {
+                let own = slots
+                    .binary_search(&(*s & !TRANSPOSED))
+                    .expect("the share holds its groups' slots") as u32;
+                *s = own | (*s & TRANSPOSED);
+            }
+        }
+        shares.push(Share {
+            groups: t * len..t * len + chunk.len(),
+            slots,
+        });
+    }
+    shares
+}
+
+/// Blocks per parallel task of [`gather_blocks`].
+const GATHER_CHUNK: usize = 1 << 12;
+
+/// The `count` blocks summed from each share's own (`parts`, in the shares' order): every
+/// block's parts added in that order, bit for bit the sums of whole arrays added in turn.
+fn gather_blocks(count: usize, shares: &[Share], parts: &[&[Block3]]) -> Vec<Block3> {
+    let mut total = vec![[[0.0; 3]; 3]; count];
+    total
+        .par_chunks_mut(GATHER_CHUNK)
+        .enumerate()
+        .for_each(|(chunk, out)| {
+            let first = chunk * GATHER_CHUNK;
+            let end = first + out.len();
+            for (share, part) in shares.iter().zip(parts) {
+                let from = share.slots.partition_point(|&s| (s as usize) < first);
+                let to = share.slots.partition_point(|&s| (s as usize) < end);
+                for (slot, block) in share.slots[from..to].iter().zip(&part[from..to]) {
+                    let out = &mut out[*slot as usize - first];
+                    for (x, y) in out.as_flattened_mut().iter_mut().zip(block.as_flattened()) {
+                        *x += y;
+                    }
+                }
+            }
+        });
+    total
+}
+
+/// A 3 × 3 block of a Hessian.
+type Block3 = [[f64; 3]; 3];
 
 /// Quadrature points per partial sum of [`Functional::value`].
 const VALUE_CHUNK: usize = 1024;
@@ -582,6 +643,7 @@ impl<'a, R: Representation> Functional<'a, R> {
             });
             start = end;
         }
+        let shares = shares(&mut groups);
         Functional {
             rep,
             c,
@@ -589,6 +651,7 @@ impl<'a, R: Representation> Functional<'a, R> {
             free_count,
             blocks,
             groups,
+            shares,
             arch: pulp::Arch::new(),
         }
     }
@@ -928,38 +991,42 @@ impl<'a, R: Representation> Functional<'a, R> {
     /// The terms, gradient and the Hessians of `kind` of F̃, from one pass over the
     /// quadrature points.
     pub fn hessians(&self, positions: &[[f64; 3]], kind: HessianKind) -> Hessians {
-        let blocks = |wanted: bool| if wanted { self.blocks.len() } else { 0 };
-        let new = || {
-            Partial::new(
-                self.free_count,
-                blocks(kind.exact()),
-                blocks(kind.gauss_newton()),
-            )
-        };
-        let total = self
-            .groups
-            .par_chunks(chunk_len(self.groups.len()))
-            .map(|chunk| {
-                let mut acc = new();
-                for group in chunk {
+        let blocks = |wanted: bool, share: &Share| if wanted { share.slots.len() } else { 0 };
+        let parts = self
+            .shares
+            .par_iter()
+            .map(|share| {
+                let mut acc = Partial::new(
+                    self.free_count,
+                    blocks(kind.exact(), share),
+                    blocks(kind.gauss_newton(), share),
+                );
+                for group in &self.groups[share.groups.clone()] {
                     self.add_patch_hessian(group, positions, kind, &mut acc);
                 }
                 acc
             })
             .collect::<Vec<_>>();
-        let total = Partial::merge_all(total).unwrap_or_else(new);
+        let gather = |values: &dyn Fn(&Partial) -> &[Block3]| BlockHessian {
+            blocks: self.blocks.clone(),
+            values: gather_blocks(
+                self.blocks.len(),
+                &self.shares,
+                &parts.iter().map(values).collect::<Vec<_>>(),
+            ),
+        };
+        let exact = kind.exact().then(|| gather(&|p| &p.values));
+        let gauss_newton = kind
+            .gauss_newton()
+            .then(|| gather(&|p| &p.gauss_newton_values));
+        let total = Partial::merge_all(parts)
+            .unwrap_or_else(|| Partial::new(self.free_count, 0, 0));
         let mut terms = total.terms;
         terms.f = terms.s + self.c * terms.q;
         Hessians {
             terms,
-            exact: kind.exact().then(|| BlockHessian {
-                blocks: self.blocks.clone(),
-                values: total.values,
-            }),
-            gauss_newton: kind.gauss_newton().then(|| BlockHessian {
-                blocks: self.blocks.clone(),
-                values: total.gauss_newton_values,
-            }),
+            exact,
+            gauss_newton,
             gradient: total.g,
         }
     }
@@ -1334,5 +1401,57 @@ mod tests {
         point_hessian(&x, 1.0, 1.0, &mut exact, None);
         gauss_newton_matrix(&x, 1.0, 1.0, &mut gauss_newton);
         assert!(relative_difference(&gauss_newton, &exact) > 1e-3);
+    }
+
+    #[test]
+    fn shares_blocks_gather_to_the_sums_of_whole_arrays_in_order() {
+        // Three shares over 10 000 blocks (more than one gather chunk), overlapping, with
+        // values of mixed magnitudes so that the order of the additions shows in the bits.
+        let count = 10_000;
+        let owned: Vec<Vec<u32>> = vec![
+            (0..6000).step_by(2).collect(),
+            (3000..9000).step_by(3).collect(),
+            (0..count as u32).filter(|s| s % 5 != 1).collect(),
+        ];
+        let value = |t: usize, k: usize| -> Block3 {
+            std::array::from_fn(|a| {
+                std::array::from_fn(|b| {
+                    let x = (t * 7919 + k * 104_729 + 3 * a + b) as f64;
+                    (x * 0.618).sin() * 10f64.powi((k % 9) as i32 - 4)
+                })
+            })
+        };
+        let shares: Vec<Share> = owned
+            .iter()
+            .map(|slots| Share {
+                groups: 0..0,
+                slots: slots.clone(),
+            })
+            .collect();
+        let parts: Vec<Vec<Block3>> = owned
+            .iter()
+            .enumerate()
+            .map(|(t, slots)| (0..slots.len()).map(|k| value(t, k)).collect())
+            .collect();
+        let got = gather_blocks(
+            count,
+            &shares,
+            &parts.iter().map(|p| p.as_slice()).collect::<Vec<_>>(),
+        );
+        // The whole arrays: each share's blocks scattered into a zeroed array of all of
+        // them, the arrays added one after another.
+        let mut expected = vec![[[0.0; 3]; 3]; count];
+        for (slots, part) in owned.iter().zip(&parts) {
+            let mut whole = vec![[[0.0; 3]; 3]; count];
+            for (&s, v) in slots.iter().zip(part) {
+                whole[s as usize] = *v;
+            }
+            for (e, w) in expected.iter_mut().zip(&whole) {
+                for (x, y) in e.as_flattened_mut().iter_mut().zip(w.as_flattened()) {
+                    *x += y;
+                }
+            }
+        }
+        assert_eq!(got, expected);
     }
 }
