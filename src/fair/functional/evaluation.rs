@@ -417,8 +417,8 @@ struct Group {
 ///
 /// Why its own blocks: a task's patches touch about an eighth of the matrix, and partial
 /// sums of the whole matrix per task were eight arrays of the Hessian's size to zero and
-/// add at every pass (3.2 GB at 223 487 vertices, where the kernel's zeroing of their
-/// fresh pages was 5 % of the run's samples in a profile, 2026-11-30).
+/// add at every pass (at 223 487 vertices the kernel's zeroing of their fresh pages was
+/// 5 % of a run's profile samples, 2026-11-30).
 struct Share {
     groups: Range<usize>,
     /// The blocks its groups touch, ascending: the global slot of each of its own.
@@ -1019,8 +1019,8 @@ impl<'a, R: Representation> Functional<'a, R> {
         let gauss_newton = kind
             .gauss_newton()
             .then(|| gather(&|p| &p.gauss_newton_values));
-        let total = Partial::merge_all(parts)
-            .unwrap_or_else(|| Partial::new(self.free_count, 0, 0));
+        let total =
+            Partial::merge_all(parts).unwrap_or_else(|| Partial::new(self.free_count, 0, 0));
         let mut terms = total.terms;
         terms.f = terms.s + self.c * terms.q;
         Hessians {
