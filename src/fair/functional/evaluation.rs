@@ -8,7 +8,9 @@
 //! point's fixed linear map from control vertices (see [`crate::fair::representation`]).
 //! The quadrature points of one patch share their control vertices: their contributions
 //! are summed in a dense patch matrix before they are scattered into the sparse Hessian,
-//! and patches are spread over the cores (rayon).
+//! and patches are spread over the cores (rayon) in eight fixed shares, each summing into
+//! the blocks its patches touch ([`Share`]), gathered in a fixed order: every run gives
+//! the same bits.
 //!
 //! Both densities are sums of squares of residuals (S: √W L⁻¹∇Hᵀ, Q: P ∇Δp); the
 //! Gauss–Newton part 2 Σ JᵀJ of the Hessian, positive semidefinite everywhere, comes from
@@ -404,6 +406,9 @@ pub struct BlockHessian {
     pub values: Vec<[[f64; 3]; 3]>,
 }
 
+/// A 3 × 3 block of a Hessian.
+type Block3 = [[f64; 3]; 3];
+
 /// A run of consecutive quadrature points with the same control vertices (a patch).
 struct Group {
     points: Range<usize>,
@@ -585,9 +590,6 @@ fn gather_blocks(count: usize, shares: &[Share], parts: &[&[Block3]]) -> Vec<Blo
         });
     total
 }
-
-/// A 3 × 3 block of a Hessian.
-type Block3 = [[f64; 3]; 3];
 
 /// Quadrature points per partial sum of [`Functional::value`].
 const VALUE_CHUNK: usize = 1024;
