@@ -438,8 +438,8 @@ struct Partial {
     terms: Terms,
     g: Vec<f64>,
     /// Blocks of the exact Hessian, and of the Gauss–Newton part (empty if not asked for).
-    values: Vec<[[f64; 3]; 3]>,
-    gauss_newton_values: Vec<[[f64; 3]; 3]>,
+    values: Vec<Block3>,
+    gauss_newton_values: Vec<Block3>,
     /// The point Hessian.
     h: Box<PointMatrix>,
     /// The point Hessian with rows and columns ordered by coordinate, then derivative.
@@ -534,7 +534,8 @@ fn chunk_len(n: usize) -> usize {
     n.div_ceil(TASKS).max(1)
 }
 
-/// The [`TASKS`] shares of `groups` (chunks of [`chunk_len`], as the gradient's), each
+/// The [`TASKS`] shares of `groups` (consecutive chunks of [`chunk_len`]): the split of
+/// every pass over the patches (the Hessians', the gradient's, the accelerations'), each
 /// group's slots turned from global block slots into its share's.
 fn shares(groups: &mut [Group]) -> Vec<Share> {
     let len = chunk_len(groups.len());
@@ -740,14 +741,21 @@ impl<'a, R: Representation> Functional<'a, R> {
         (mean, (sum2 / area - mean * mean).max(0.0).sqrt())
     }
 
+    /// The quadrature points of `share`'s groups.
+    fn points_of(&self, share: &Share) -> impl Iterator<Item = usize> + '_ {
+        self.groups[share.groups.clone()]
+            .iter()
+            .flat_map(|group| group.points.clone())
+    }
+
     /// The terms and the gradient of F̃ (3 entries per free vertex).
     pub fn gradient(&self, positions: &[[f64; 3]]) -> (Terms, Vec<f64>) {
         let total = self
-            .groups
-            .par_chunks(chunk_len(self.groups.len()))
-            .map(|chunk| {
+            .shares
+            .par_iter()
+            .map(|share| {
                 let mut acc = Partial::new(self.free_count, 0, 0);
-                for k in chunk.iter().flat_map(|group| group.points.clone()) {
+                for k in self.points_of(share) {
                     let (x, ws, wq) = self.point_input(k, positions);
                     self.add_point(k, point_gradient(&x, ws, wq), &mut acc);
                 }
@@ -783,11 +791,11 @@ impl<'a, R: Representation> Functional<'a, R> {
             })
             .collect();
         let total = self
-            .groups
-            .par_chunks(chunk_len(self.groups.len()))
-            .map(|chunk| {
+            .shares
+            .par_iter()
+            .map(|share| {
                 let mut out = vec![0.0; 3 * self.free_count];
-                for k in chunk.iter().flat_map(|group| group.points.clone()) {
+                for k in self.points_of(share) {
                     let (x, ws, wq) = self.point_input(k, positions);
                     let xv = point_derivatives(self.rep, k, &displacement);
                     let grad = self.arch.dispatch(PointResidualCurvature {
