@@ -182,12 +182,12 @@ pub struct FairArgs {
     #[arg(long)]
     pub frugal_lm_search: bool,
     /// Bend each Levenberg–Marquardt step along the residuals' curvature (geodesic
-    /// acceleration, Transtrum and Sethna 2012): one more solve per trial; fewer damped
-    /// steps, faster on the largest Catmull–Clark junctions only (README). Default: on for
-    /// the multilevel method on the Catmull–Clark surface from 90 000 free vertices.
+    /// acceleration, Transtrum and Sethna 2012): one more solve per trial; faster at no
+    /// size measured since the damped phase's 2 × 2 Hessians (README). Default: off.
     #[arg(long, conflicts_with = "no_geodesic_acceleration")]
     pub geodesic_acceleration: bool,
-    /// Never bend the Levenberg–Marquardt steps (see --geodesic-acceleration).
+    /// Do not bend the Levenberg–Marquardt steps: the default (see
+    /// --geodesic-acceleration).
     #[arg(long)]
     pub no_geodesic_acceleration: bool,
     /// Coarse-to-fine (paper §6): optimize the input, then this many times refine its

@@ -189,24 +189,6 @@ pub enum FairMethod {
 /// level; between 2000 and 3000 nothing was measured.
 pub const MULTILEVEL_FREE_VERTICES: usize = 3000;
 
-/// The size from which [`accelerate_by_default`] bends the multilevel method's
-/// Levenberg–Marquardt steps on the Catmull–Clark surface: the smallest junction where
-/// that was measured faster. Single runs of `surfkit fair --surface catmull-clark --method
-/// multilevel` with and without `--geodesic-acceleration` (2026-11-28, the eighteenth
-/// session's and, for the runs without, earlier ones the same day; README): 962.8 s
-/// against 1268.5 s and 1328.1 s at 218 879 free vertices, 337.1 s against 368.0 s at
-/// 90 237, but 88.1 s against 81.4 s at 54 143 and 21.3 s against 17.5 s at 13 247.
-pub const ACCELERATED_FREE_VERTICES: usize = 90_000;
-
-/// Whether [`optimize`] bends the Levenberg–Marquardt steps by their geodesic acceleration
-/// when [`NewtonOptions::geodesic_acceleration`] is `None`: on the Catmull–Clark surface,
-/// with the multilevel method, from [`ACCELERATED_FREE_VERTICES`] free vertices. Not on
-/// the G² surface, whose damped phase is short already: there it gained nothing at any
-/// size measured (344.5 s against 316.0 s at 90 237 free vertices, the same day).
-pub fn accelerate_by_default(surface: SurfaceKind, multilevel: bool, free: usize) -> bool {
-    surface == SurfaceKind::CatmullClark && multilevel && free >= ACCELERATED_FREE_VERTICES
-}
-
 /// Peak resident memory of a method: `base` + `per_free_vertex` · free vertices, the
 /// representation included. Checked against the memory budget before the solver's
 /// matrices are allocated, so that a problem too large gets an error, not the OOM killer.
@@ -556,13 +538,6 @@ pub fn optimize_observed(
             if let Some(levels) = &levels {
                 multilevel_sizes = levels.sizes();
             }
-            newton_options
-                .geodesic_acceleration
-                .get_or_insert(accelerate_by_default(
-                    options.representation.surface,
-                    levels.is_some(),
-                    functional.free_count(),
-                ));
             let report = match levels {
                 _ if coarse_stage
                     .as_ref()
