@@ -71,6 +71,7 @@ impl SymmetricCsr {
         }
     }
 
+    /// Block rows (vertices).
     pub fn size(&self) -> usize {
         self.row_start.len() - 1
     }
