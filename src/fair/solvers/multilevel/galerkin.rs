@@ -44,16 +44,29 @@ impl BlockCsr {
             .collect();
         let mut row_start = Vec::with_capacity(coarse_count + 1);
         row_start.push(0);
-        let total = parts.iter().map(|part| part.columns.len()).sum();
-        let mut columns = Vec::with_capacity(total);
-        let mut values = Vec::with_capacity(total);
-        for part in parts {
-            for length in part.lengths {
+        for part in &parts {
+            for length in &part.lengths {
                 row_start.push(row_start.last().expect("starts at 0") + length);
             }
-            columns.extend(part.columns);
-            values.extend(part.values);
         }
+        let total = row_start[coarse_count];
+        let mut columns = vec![0u32; total];
+        let mut values = vec![[[0.0; 3]; 3]; total];
+        // Each task's rows copied into their place in parallel, as in
+        // `SymmetricCsr::from_full`.
+        let mut places = Vec::with_capacity(parts.len());
+        let (mut column_rest, mut value_rest) = (&mut columns[..], &mut values[..]);
+        for part in &parts {
+            let length = part.columns.len();
+            let (c, c_rest) = std::mem::take(&mut column_rest).split_at_mut(length);
+            let (v, v_rest) = std::mem::take(&mut value_rest).split_at_mut(length);
+            places.push((part, c, v));
+            (column_rest, value_rest) = (c_rest, v_rest);
+        }
+        places.into_par_iter().for_each(|(part, c, v)| {
+            c.copy_from_slice(&part.columns);
+            v.copy_from_slice(&part.values);
+        });
         BlockCsr {
             row_start,
             columns,
