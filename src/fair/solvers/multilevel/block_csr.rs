@@ -10,6 +10,33 @@ use crate::fair::functional::evaluation::BlockHessian;
 /// A 3 × 3 block.
 pub type Block = [[f64; 3]; 3];
 
+/// The columns and blocks of consecutive pieces of a sparse matrix, piece k `lengths[k]`
+/// entries long and written by `fill(k, its columns, its blocks)`, the pieces in parallel:
+/// one pass over fresh memory, where appending them in turn is one thread's (the 223k
+/// junction's fine upper triangle, 2026-11-30: 0.44 s against 1.0 s).
+pub fn filled_in_parallel(
+    lengths: impl Iterator<Item = usize>,
+    fill: impl Fn(usize, &mut [u32], &mut [Block]) + Sync,
+) -> (Vec<u32>, Vec<Block>) {
+    let lengths: Vec<usize> = lengths.collect();
+    let total = lengths.iter().sum();
+    let mut columns = vec![0u32; total];
+    let mut values = vec![[[0.0; 3]; 3]; total];
+    let mut pieces = Vec::with_capacity(lengths.len());
+    let (mut column_rest, mut value_rest) = (&mut columns[..], &mut values[..]);
+    for length in lengths {
+        let (c, c_rest) = std::mem::take(&mut column_rest).split_at_mut(length);
+        let (v, v_rest) = std::mem::take(&mut value_rest).split_at_mut(length);
+        pieces.push((c, v));
+        (column_rest, value_rest) = (c_rest, v_rest);
+    }
+    pieces
+        .into_par_iter()
+        .enumerate()
+        .for_each(|(k, (c, v))| fill(k, c, v));
+    (columns, values)
+}
+
 /// A symmetric matrix of 3 × 3 blocks, every row's blocks sorted by column.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BlockCsr {

@@ -12,7 +12,7 @@
 
 use rayon::prelude::*;
 
-use super::block_csr::{Block, BlockCsr, Prolongation};
+use super::block_csr::{filled_in_parallel, Block, BlockCsr, Prolongation};
 
 /// Coarse rows per task: many, so that the fine rows a task shares with its neighbours
 /// (formed in both) are few of its own, and few enough that its rows of A P stay small
@@ -49,24 +49,11 @@ impl BlockCsr {
                 row_start.push(row_start.last().expect("starts at 0") + length);
             }
         }
-        let total = row_start[coarse_count];
-        let mut columns = vec![0u32; total];
-        let mut values = vec![[[0.0; 3]; 3]; total];
-        // Each task's rows copied into their place in parallel, as in
-        // `SymmetricCsr::from_full`.
-        let mut places = Vec::with_capacity(parts.len());
-        let (mut column_rest, mut value_rest) = (&mut columns[..], &mut values[..]);
-        for part in &parts {
-            let length = part.columns.len();
-            let (c, c_rest) = std::mem::take(&mut column_rest).split_at_mut(length);
-            let (v, v_rest) = std::mem::take(&mut value_rest).split_at_mut(length);
-            places.push((part, c, v));
-            (column_rest, value_rest) = (c_rest, v_rest);
-        }
-        places.into_par_iter().for_each(|(part, c, v)| {
-            c.copy_from_slice(&part.columns);
-            v.copy_from_slice(&part.values);
-        });
+        let (columns, values) =
+            filled_in_parallel(parts.iter().map(|part| part.columns.len()), |k, c, v| {
+                c.copy_from_slice(&parts[k].columns);
+                v.copy_from_slice(&parts[k].values);
+            });
         BlockCsr {
             row_start,
             columns,

@@ -10,7 +10,7 @@
 
 use rayon::prelude::*;
 
-use super::block_csr::{Block, BlockCsr};
+use super::block_csr::{filled_in_parallel, Block, BlockCsr};
 use crate::fair::functional::evaluation::BlockHessian;
 
 /// At most this many partial results per product (each up to the length of the result):
@@ -45,25 +45,14 @@ impl SymmetricCsr {
         for (i, &first) in first_upper.iter().enumerate() {
             row_start.push(row_start[i] + full.row_start[i + 1] - first);
         }
-        let total = row_start[n];
-        let mut columns = vec![0u32; total];
-        let mut values = vec![[[0.0; 3]; 3]; total];
-        // Every row copied straight into its place, in parallel: one pass over fresh memory
-        // (the 223k junction's fine level, 2026-11-30: 0.44 s, against 1.0 s gathered into
-        // a vector per row and joined by one thread, at a lower peak).
-        let mut rows = Vec::with_capacity(n);
-        let (mut column_rest, mut value_rest) = (&mut columns[..], &mut values[..]);
-        for i in 0..n {
-            let length = row_start[i + 1] - row_start[i];
-            let (c, c_rest) = std::mem::take(&mut column_rest).split_at_mut(length);
-            let (v, v_rest) = std::mem::take(&mut value_rest).split_at_mut(length);
-            rows.push((first_upper[i]..full.row_start[i + 1], c, v));
-            (column_rest, value_rest) = (c_rest, v_rest);
-        }
-        rows.into_par_iter().for_each(|(source, c, v)| {
-            c.copy_from_slice(&full.columns[source.clone()]);
-            v.copy_from_slice(&full.values[source]);
-        });
+        let (columns, values) = filled_in_parallel(
+            row_start.windows(2).map(|w| w[1] - w[0]),
+            |i, columns, values| {
+                let source = first_upper[i]..full.row_start[i + 1];
+                columns.copy_from_slice(&full.columns[source.clone()]);
+                values.copy_from_slice(&full.values[source]);
+            },
+        );
         SymmetricCsr {
             row_start,
             columns,
