@@ -281,8 +281,8 @@ fn fair_optimize_geodesic_acceleration_reaches_the_same_minimum_in_fewer_damped_
     // (the default). Fewer damped steps on both surfaces (measured 2026-11-28: 9 against 12
     // on each, with 44 and 46 set-ups of H + νI against 37 and 40).
     let runs = same_minimum_on_both_surfaces(
-        |o| o.newton.geodesic_acceleration = Some(false),
-        |o| o.newton.geodesic_acceleration = Some(true),
+        |o| o.newton.geodesic_acceleration = false,
+        |o| o.newton.geodesic_acceleration = true,
     );
     let damped = |r: &NewtonReport| {
         r.iterations

@@ -405,12 +405,8 @@ fn options(args: &FairArgs, memory: MemoryBudget) -> FairOptions {
     options.newton.newton_halvings = args.newton_halvings;
     options.newton.newton_after_decrease = args.newton_after_decrease;
     options.newton.newton_backoff = !args.no_newton_backoff;
-    options.newton.geodesic_acceleration =
-        match (args.geodesic_acceleration, args.no_geodesic_acceleration) {
-            (true, _) => Some(true),
-            (_, true) => Some(false),
-            _ => None,
-        };
+    // `--no-geodesic-acceleration` is the default, kept so that scripts that pass it run.
+    options.newton.geodesic_acceleration = args.geodesic_acceleration;
     if args.frugal_lm_search {
         options.newton.lm_search = LmSearch::Frugal;
     }

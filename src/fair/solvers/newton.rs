@@ -96,14 +96,14 @@ pub struct NewtonOptions {
     /// residuals' curvature: δ = v + a/2 with the geodesic acceleration a = −(B + νI)⁻¹
     /// 2 Σ w Jᵀ r_vv (Transtrum and Sethna 2012), when 2‖a‖ ≤ [`ACCELERATION_LIMIT`] ‖v‖;
     /// one more solve with the same set-up and one pass over the quadrature points per
-    /// trial ([`LmMatrix::GaussNewton`] only). Beyond the paper. `None`: off. It was on by
+    /// trial ([`LmMatrix::GaussNewton`] only). Beyond the paper. Off by default. It was on by
     /// default for the multilevel method on the Catmull–Clark surface from 90 000 free
     /// vertices, where it halved the damped steps (2026-11-28: 962.8 s against 1268.5 s at
     /// 218 879 free vertices); since the damped phase's 2 × 2 Hessians its steps come out
     /// the same without it, and single runs back to back (2026-11-30, README) took 372.6
     /// and 392.7 s without it against 411.9 and 395.6 s with it at 218 879 free vertices,
     /// 224.0 against 231.6 s at 90 237, the same minima.
-    pub geodesic_acceleration: Option<bool>,
+    pub geodesic_acceleration: bool,
 }
 
 /// The default of [`NewtonOptions::newton_after_decrease`]. From the raw three- and
@@ -158,7 +158,7 @@ impl Default for NewtonOptions {
             newton_after_decrease: NEWTON_AFTER_DECREASE,
             newton_backoff: true,
             lm_search: LmSearch::Exhaustive,
-            geodesic_acceleration: None,
+            geodesic_acceleration: false,
         }
     }
 }
@@ -192,7 +192,7 @@ pub struct NewtonReport {
     pub fine_factorizations: usize,
     pub fine_factorization_seconds: f64,
     /// Whether the Levenberg–Marquardt steps were bent by their geodesic acceleration
-    /// ([`NewtonOptions::geodesic_acceleration`], as asked or chosen), and the trials
+    /// ([`NewtonOptions::geodesic_acceleration`] on a Gauss–Newton trajectory), and the trials
     /// whose step was.
     pub geodesic_acceleration: bool,
     pub accelerated_trials: usize,
@@ -872,8 +872,7 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
         passes: 0,
         forcing: 0.5,
         search: options.lm_search,
-        accelerate: options.geodesic_acceleration == Some(true)
-            && options.lm_matrix == LmMatrix::GaussNewton,
+        accelerate: options.geodesic_acceleration && options.lm_matrix == LmMatrix::GaussNewton,
     };
     run.report.geodesic_acceleration = run.accelerate;
     if functional.free_count() == 0 || g0 == 0.0 {
