@@ -183,7 +183,8 @@ pub struct FairArgs {
     pub frugal_lm_search: bool,
     /// Bend each Levenberg–Marquardt step along the residuals' curvature (geodesic
     /// acceleration, Transtrum and Sethna 2012): one more solve per trial; faster at no
-    /// size measured since the damped phase's 2 × 2 Hessians (README). Default: off.
+    /// size measured since the damped phase's 2 × 2 Hessians (docs/fairing-at-scale-log.md).
+    /// Default: off.
     #[arg(long, conflicts_with = "no_geodesic_acceleration")]
     pub geodesic_acceleration: bool,
     /// Do not bend the Levenberg–Marquardt steps: the default (see

@@ -100,9 +100,10 @@ pub struct NewtonOptions {
     /// default for the multilevel method on the Catmull–Clark surface from 90 000 free
     /// vertices, where it halved the damped steps (2026-11-28: 962.8 s against 1268.5 s at
     /// 218 879 free vertices); since the damped phase's 2 × 2 Hessians its steps come out
-    /// the same without it, and single runs back to back (2026-11-30, README) took 372.6
-    /// and 392.7 s without it against 411.9 and 395.6 s with it at 218 879 free vertices,
-    /// 224.0 against 231.6 s at 90 237, the same minima.
+    /// the same without it, and single runs back to back (2026-11-30,
+    /// docs/fairing-at-scale-log.md) took 372.6 and 392.7 s without it against 411.9 and
+    /// 395.6 s with it at 218 879 free vertices, 224.0 against 231.6 s at 90 237, the same
+    /// minima.
     pub geodesic_acceleration: bool,
 }
 

@@ -8,7 +8,8 @@
 //! here only for the fine vertices a task shares with its neighbours. At the 223 487-vertex
 //! junction that product took 5.5 s of each Hessian's set-up (23 matrices, 2026-11-29, in a
 //! probe run that shared the machine with a build for part of its time), and the set-ups
-//! 152.6 s of a 591.7 s run against 83.2 s of 518.0 s this way (README).
+//! 152.6 s of a 591.7 s run against 83.2 s of 518.0 s this way
+//! (docs/fairing-at-scale-log.md).
 
 use rayon::prelude::*;
 

@@ -9,8 +9,8 @@
 //! smoother that relaxes one vertex at a time cannot reduce it, on any level: with patch
 //! smoothing on every smoothed level the probe's residual after 50 iterations fell from
 //! 1.9 to 6.7·10⁻⁴ at 54 143 free vertices (from 5.8·10⁻³ to 1.9·10⁻¹³ at 13 247), where
-//! patches on the finest level alone reached only 1.4·10⁻² after 100 (README,
-//! twenty-fourth session).
+//! patches on the finest level alone reached only 1.4·10⁻² after 100
+//! (docs/fairing-at-scale-log.md, twenty-fourth session).
 //!
 //! A patch per vertex made each V-cycle three times the block smoother's and its set-up
 //! twice, more than the iterations saved (56k junction: 189.1 s against 138.5 s); a cover
