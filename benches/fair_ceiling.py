@@ -15,7 +15,8 @@ side, then the issue's goals.
 
 SIZE is t3r2 (14 399 vertices), t5r2 (23 997), t3r3 (56 447), t5r3 (94 077) or t3r4
 (223 487); default all five. A run longer than --timeout (default 2700 s, the issue's 45
-minutes) is stopped and shown as "> T"; --plain-timeout (default: --timeout) stops the
+minutes) is stopped and shown as "> T", and one surfkit refuses (the memory check) has its
+reason printed below the table; --plain-timeout (default: --timeout) stops the
 plain method's runs sooner, so that one run of all sizes fits in an evening.
 --coarse-start gives the multilevel method's runs `surfkit fair --coarse-start` (nested
 iteration). --reports DIR keeps every run's JSON report, its iterations included, and its
@@ -65,9 +66,19 @@ class Run:
         """Stopped above the tolerance at the gradient's floor for double coordinates."""
         return self.report is not None and self.report["newton"]["stalled"]
 
+    @property
+    def refusal(self) -> str:
+        """surfkit's reason for refusing the run, without its "surfkit: error: <mesh>: "
+        prefix (the mesh is a temporary file)."""
+        first = self.error.splitlines()[0] if self.error else ""
+        prefix = "surfkit: error: "
+        if first.startswith(prefix):
+            first = first[len(prefix) :].split(": ", 1)[-1]
+        return first
+
     def cells(self) -> str:
         if self.error:
-            return f"{'refused:':>9}  {self.error[:60]}"
+            return f"{'refused':>9}  (reason below the table)"
         if self.report is None:
             return f"> {self.wall:7.0f}  {self.peak_gb:5.2f}    (stopped)"
         newton = self.report["newton"]
@@ -154,6 +165,12 @@ def run_measured(args: list[str], timeout: float) -> Run:
         return Run(wall, usage.ru_maxrss / 1e6, json.loads(text)["report"])
 
 
+def obj_vertex_count(path: Path) -> int:
+    """The `v` lines of an OBJ file."""
+    with path.open() as lines:
+        return sum(1 for line in lines if line.startswith("v "))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("sizes", nargs="*", default=list(SIZES))
@@ -210,10 +227,12 @@ def main() -> None:
                     shutil.copyfile(faired, path.with_suffix(".obj"))
             results[name] = row
             known = next((r.report for r in row.values() if r.report is not None), None)
-            vertices[name] = known["vertices"] if known else 0
-            free = known["free_vertices"] if known else 0
+            # Every run refused or stopped: the vertices from the mesh itself, the free
+            # ones unknown (the preparation decides them).
+            vertices[name] = known["vertices"] if known else obj_vertex_count(mesh)
+            free = str(known["free_vertices"]) if known else "-"
             print(
-                f"{name:6} {vertices[name]:8} {free:6}  {extraordinary_input:6.2f}  "
+                f"{name:6} {vertices[name]:8} {free:>6}  {extraordinary_input:6.2f}  "
                 + "  ".join(f"{'':>10} {row[m].cells()}" for m in methods),
                 flush=True,
             )
@@ -222,6 +241,10 @@ def main() -> None:
         " |g0|; *: stopped there, above the tolerance; EV/med: mean length of the edges at the"
         " extraordinary vertices over the median edge length, of the input and of the optimum"
     )
+    for name, row in results.items():
+        for method, run in row.items():
+            if run.error:
+                print(f"refused, {name} {method}: {run.refusal}")
     if set(methods) >= {"plain", "multilevel"}:
         print("speed-up of the multilevel method (plain wall / multilevel wall):")
         for name, row in results.items():
