@@ -66,16 +66,6 @@ class Run:
         """Stopped above the tolerance at the gradient's floor for double coordinates."""
         return self.report is not None and self.report["newton"]["stalled"]
 
-    @property
-    def refusal(self) -> str:
-        """surfkit's reason for refusing the run, without its "surfkit: error: <mesh>: "
-        prefix (the mesh is a temporary file)."""
-        first = self.error.splitlines()[0] if self.error else ""
-        prefix = "surfkit: error: "
-        if first.startswith(prefix):
-            first = first[len(prefix) :].split(": ", 1)[-1]
-        return first
-
     def cells(self) -> str:
         if self.error:
             return f"{'refused':>9}  (reason below the table)"
@@ -100,12 +90,14 @@ class Run:
         )
 
 
-def extraordinary_edge_ratio(path: Path) -> float:
-    """Mean length of the edges at the interior vertices of valence other than 4 over the
-    median edge length: how far the optimum shrinks (or grows) the neighbourhoods of the
-    extraordinary vertices against the rest of the mesh (NaN for a mesh without any)."""
-    positions: list[tuple[float, float, float]] = []
-    edges: dict[tuple[int, int], int] = {}
+Positions = list[tuple[float, float, float]]
+Edges = dict[tuple[int, int], int]
+
+
+def read_obj(path: Path) -> tuple[Positions, Edges]:
+    """An OBJ file's vertex positions and its edges, each with the number of its faces."""
+    positions: Positions = []
+    edges: Edges = {}
     with path.open() as obj:
         for line in obj:
             if line.startswith("v "):
@@ -116,6 +108,13 @@ def extraordinary_edge_ratio(path: Path) -> float:
                 for a, b in zip(face, face[1:] + face[:1]):
                     key = (min(a, b), max(a, b))
                     edges[key] = edges.get(key, 0) + 1
+    return positions, edges
+
+
+def extraordinary_edge_ratio(positions: Positions, edges: Edges) -> float:
+    """Mean length of the edges at the interior vertices of valence other than 4 over the
+    median edge length: how far the optimum shrinks (or grows) the neighbourhoods of the
+    extraordinary vertices against the rest of the mesh (NaN for a mesh without any)."""
     valence = [0] * len(positions)
     boundary = [False] * len(positions)
     for (a, b), faces in edges.items():
@@ -165,12 +164,6 @@ def run_measured(args: list[str], timeout: float) -> Run:
         return Run(wall, usage.ru_maxrss / 1e6, json.loads(text)["report"])
 
 
-def obj_vertex_count(path: Path) -> int:
-    """The `v` lines of an OBJ file."""
-    with path.open() as lines:
-        return sum(1 for line in lines if line.startswith("v "))
-
-
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("sizes", nargs="*", default=list(SIZES))
@@ -208,7 +201,8 @@ def main() -> None:
                 check=True,
                 capture_output=True,
             )
-            extraordinary_input = extraordinary_edge_ratio(mesh)
+            input_positions, input_edges = read_obj(mesh)
+            extraordinary_input = extraordinary_edge_ratio(input_positions, input_edges)
             row = {}
             for method in methods:
                 row[method] = run_measured(
@@ -217,10 +211,12 @@ def main() -> None:
                     + (["--coarse-start"] if args.coarse_start and method != "plain" else []),
                     timeouts.get(method, args.timeout),
                 )
+                # The mesh is a temporary file: its path says nothing in the table.
+                row[method].error = row[method].error.removeprefix(f"surfkit: error: {mesh}: ")
                 if row[method].report is None:
                     continue
                 faired = Path(tmp) / "out.obj"
-                row[method].extraordinary = extraordinary_edge_ratio(faired)
+                row[method].extraordinary = extraordinary_edge_ratio(*read_obj(faired))
                 if args.reports:
                     path = args.reports / f"{name}-{method}.json"
                     path.write_text(json.dumps(row[method].report, indent=1))
@@ -229,7 +225,7 @@ def main() -> None:
             known = next((r.report for r in row.values() if r.report is not None), None)
             # Every run refused or stopped: the vertices from the mesh itself, the free
             # ones unknown (the preparation decides them).
-            vertices[name] = known["vertices"] if known else obj_vertex_count(mesh)
+            vertices[name] = known["vertices"] if known else len(input_positions)
             free = str(known["free_vertices"]) if known else "-"
             print(
                 f"{name:6} {vertices[name]:8} {free:>6}  {extraordinary_input:6.2f}  "
@@ -244,7 +240,7 @@ def main() -> None:
     for name, row in results.items():
         for method, run in row.items():
             if run.error:
-                print(f"refused, {name} {method}: {run.refusal}")
+                print(f"refused, {name} {method}: {run.error}")
     if set(methods) >= {"plain", "multilevel"}:
         print("speed-up of the multilevel method (plain wall / multilevel wall):")
         for name, row in results.items():
