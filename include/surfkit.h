@@ -413,8 +413,9 @@ typedef struct SurfkitFairSummary {
    */
   int stuck;
   /*
-   Stopped above the tolerance at `coordinate_floor`: as close to the minimum as
-   double-precision coordinates come (the run did what it could; not `converged`).
+   Stopped above the tolerance within twice `coordinate_floor`, after choosing the
+   coordinates' rounding: as close to the minimum as the run could bring
+   double-precision coordinates (it did what it could; not `converged`).
    */
   int stalled;
   uintptr_t iterations;

@@ -497,9 +497,10 @@ fn fair_exit_status_says_whether_it_converged() {
         read(&out).unwrap().vertex_count(),
         small_junction().vertex_count()
     );
-    // A tolerance below what double coordinates can hold (‖g‖ of the rounded minimum, the
-    // coordinate floor, is ~10⁻¹⁶ of ‖g₀‖ here): the run stops at that floor, says so,
-    // and succeeds, since no stored mesh is closer to the minimum.
+    // A tolerance below what double coordinates can hold (‖g‖ of the minimum rounded to
+    // nearest, the coordinate floor, is ~10⁻¹⁶ of ‖g₀‖ here, and a chosen rounding does
+    // not gain a hundred times that): the run stops near that floor, says so, and
+    // succeeds, having done what double coordinates allow.
     let (floored, report, _) = run(&["--tolerance", "1e-18"], "floor.obj");
     assert_eq!(floored.status.code(), Some(0));
     let newton = &report["report"]["newton"];

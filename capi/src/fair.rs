@@ -137,8 +137,9 @@ pub struct SurfkitFairSummary {
     pub cancelled: c_int,
     /// Stopped without converging where steps no longer decrease F or the gradient.
     pub stuck: c_int,
-    /// Stopped above the tolerance at `coordinate_floor`: as close to the minimum as
-    /// double-precision coordinates come (the run did what it could; not `converged`).
+    /// Stopped above the tolerance within twice `coordinate_floor`, after choosing the
+    /// coordinates' rounding: as close to the minimum as the run could bring
+    /// double-precision coordinates (it did what it could; not `converged`).
     pub stalled: c_int,
     pub iterations: usize,
     pub hessian_evaluations: usize,

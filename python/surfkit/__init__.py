@@ -377,8 +377,9 @@ def fair(
     ``report["newton"]["cancelled"]`` is set); an exception it raises stops the run and is
     raised here. A run that stops without converging is not an error: read
     ``report["newton"]["converged"]``, and ``report["newton"]["stalled"]`` for a run that
-    stopped at ``report["newton"]["coordinate_floor"]``, the gradient norm that rounding
-    the coordinates to doubles leaves (as close to the minimum as stored points come).
+    stopped within twice ``report["newton"]["coordinate_floor"]``, the gradient norm that
+    rounding the coordinates to the nearest doubles leaves, after choosing their rounding
+    (which goes below it where it can).
     """
     fixed_ids = [] if fixed is None else [int(x) for x in ids(fixed, "fixed")]
     optimized, text = _surfkit.fair_json(

@@ -346,6 +346,7 @@ impl Progress {
             StepKind::DampedNewton => "damped Newton step",
             StepKind::LevenbergMarquardt => "Levenberg–Marquardt step",
             StepKind::SteepestDescent => "descent step",
+            StepKind::LatticeRounding => "Newton step, rounding chosen",
         };
         self.bar.set_message(format!(
             "level {level}, iteration {} ({step}): F {:.6e}, |g|/|g0| {ratio:.2e} → {:.0e}",
@@ -638,6 +639,20 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
                 n.accelerated_trials, n.acceleration_seconds, n.acceleration_cg_iterations
             );
         }
+        let lattice = n
+            .iterations
+            .iter()
+            .filter(|it| it.step == StepKind::LatticeRounding)
+            .count();
+        if let (true, Some(floor)) = (lattice > 0, n.coordinate_floor) {
+            println!(
+                "  rounding chosen at the floor of f64 coordinates: {lattice} step(s), {:.1} s, \
+                 to |g|/|g0| {:.2e} (rounding to nearest: {:.2e})",
+                n.lattice_seconds,
+                report.final_gradient_norm / report.initial_gradient_norm,
+                floor / report.initial_gradient_norm
+            );
+        }
         if let Some(stage) = &report.coarse_start {
             println!("  {}", coarse_start_line(stage));
         }
@@ -683,7 +698,8 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
         // As close as f64 coordinates come: the goal is met as far as the output can hold it.
         eprintln!(
             "surfkit fair: stopped at |g|/|g0| = {:.3e}, the floor of f64 coordinates \
-             (rounding them moves |g| by {:.3e} of |g0|); --tolerance {:.1e} is below it",
+             (rounding them to nearest moves |g| by {:.3e} of |g0|, and no rounding chosen \
+             went further); --tolerance {:.1e} is below it",
             report.final_gradient_norm / report.initial_gradient_norm,
             floor / report.initial_gradient_norm,
             args.tolerance,

@@ -1,12 +1,14 @@
-//! The smallest ‖∇F‖ that control points stored as `f64` can be expected to reach.
+//! The smallest ‖∇F‖ that control points stored as `f64` can be expected to reach when
+//! rounded to nearest.
 //!
-//! The minimum x* is not a point of the `f64` lattice: the best the optimizer can return
-//! is x* rounded, where ∇F = H (x − x*) with x − x* the rounding, about uniform in
-//! ±½ ulp per coordinate. With c ≈ 10⁸ (the 223 487-vertex three-tube junction) that
-//! product is ~10⁻⁸ of the raw mesh's gradient: there the gradient tolerance asks for
-//! more digits than the coordinates have, and Newton steps, themselves rounded to the
-//! lattice, cannot go below it. The estimate lets the optimizer stop there on a measured
-//! floor instead of spending Hessians to find it.
+//! The minimum x* is not a point of the `f64` lattice: a Newton step returns x* rounded,
+//! where ∇F = H (x − x*) with x − x* the rounding, about uniform in ±½ ulp per
+//! coordinate. With c ≈ 10⁸ (the 223 487-vertex three-tube junction) that product is
+//! ~10⁻⁸ of the raw mesh's gradient: there the gradient tolerance asks for more digits
+//! than rounding to nearest keeps, and Newton steps, themselves rounded so, cannot go
+//! below it. The estimate tells the optimizer where to choose the rounding instead
+//! ([`super::lattice_rounding`], which goes below it) and where to stop after that,
+//! instead of spending Hessians to find it.
 
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};

@@ -6,6 +6,7 @@ pub(crate) mod block_method;
 pub(crate) mod blocks;
 pub(crate) mod cholesky;
 pub(crate) mod coordinate_floor;
+pub(crate) mod lattice_rounding;
 pub(crate) mod levels;
 pub(crate) mod multilevel;
 pub(crate) mod newton;

@@ -17,6 +17,7 @@ use crate::error::{Error, Result};
 use crate::fair::functional::evaluation::{BlockHessian, Functional, HessianKind, Hessians, Terms};
 use crate::fair::solvers::cholesky::Factorizer;
 use crate::fair::solvers::coordinate_floor::coordinate_floor;
+use crate::fair::solvers::lattice_rounding::lattice_rounding;
 use crate::fair::solvers::step_solver::{CholeskySolver, StepSolver};
 use crate::fair::surface::representation::Representation;
 use crate::linalg::{dot, norm};
@@ -37,6 +38,9 @@ pub enum StepKind {
     LevenbergMarquardt,
     /// Backtracking step along −g when no H + νI gave one (a safeguard, not in the paper).
     SteepestDescent,
+    /// At the floor of `f64` coordinates: a Newton step whose rounding is chosen, not to
+    /// nearest ([`crate::fair::solvers::lattice_rounding`]).
+    LatticeRounding,
 }
 
 /// One line of the per-iteration log.
@@ -58,9 +62,10 @@ pub struct NewtonOptions {
     /// Reuse the factor while a step divides ‖g‖ by at least this (§5: 4).
     pub reuse_factor: f64,
     /// Stop after this many consecutive Newton steps with a fresh Hessian that change F by
-    /// no more than round-off and do not halve ‖g‖, above the coordinates' floor (which
-    /// stops the run first where it is reached): further Hessians would be wasted, and the
-    /// run says it is [`NewtonReport::stuck`].
+    /// no more than round-off and do not halve ‖g‖, above the coordinates' floor (where
+    /// the run chooses the rounding first, [`StepKind::LatticeRounding`], and stops there if
+    /// that is not enough): further Hessians would be wasted, and the run says it is
+    /// [`NewtonReport::stuck`].
     pub stall_steps: usize,
     /// The matrix M of the Levenberg–Marquardt trajectory (M + νI) δ = −g.
     pub lm_matrix: LmMatrix,
@@ -201,15 +206,20 @@ pub struct NewtonReport {
     /// and the conjugate-gradient iterations of those solves (in `cg_iterations` too).
     pub acceleration_seconds: f64,
     pub acceleration_cg_iterations: usize,
+    /// Wall-clock seconds of the [`StepKind::LatticeRounding`] steps (their Hessian passes,
+    /// set-ups and solves are in the totals above too).
+    pub lattice_seconds: f64,
     pub converged: bool,
-    /// ‖H u‖ for u the rounding of the free coordinates to `f64`, at the last fresh
-    /// Hessian: about the smallest ‖g‖ stored positions can have
-    /// ([`crate::fair::solvers::coordinate_floor`]).
+    /// ‖H u‖ for u the rounding of the free coordinates to `f64` to nearest, at the last
+    /// fresh Hessian: about the smallest ‖g‖ a Newton step's stored positions have
+    /// ([`crate::fair::solvers::coordinate_floor`]); a chosen rounding
+    /// ([`StepKind::LatticeRounding`]) goes below it.
     pub coordinate_floor: Option<f64>,
     /// Stopped above the gradient tolerance with ‖g‖ within [`FLOOR_MARGIN`] times
-    /// `coordinate_floor`: the tolerance asks for more digits than `f64` coordinates have,
-    /// and these positions are as close to the minimum as they can be told apart from
-    /// their neighbours. `converged` is false then.
+    /// `coordinate_floor` once the chosen roundings ([`StepKind::LatticeRounding`]) gained
+    /// what they could: the tolerance asks for more digits than `f64` coordinates have, and
+    /// these positions are as close to the minimum as the run could tell them from their
+    /// neighbours. `converged` is false then.
     pub stalled: bool,
     /// Stopped without converging because steps no longer make progress: no step along
     /// the Levenberg–Marquardt trajectory, nor along −g, decreased F (the gradient
@@ -245,6 +255,7 @@ impl NewtonReport {
             accelerated_trials: 0,
             acceleration_seconds: 0.0,
             acceleration_cg_iterations: 0,
+            lattice_seconds: 0.0,
             converged: initial_gradient_norm == 0.0,
             coordinate_floor: None,
             stalled: false,
@@ -687,6 +698,63 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
         })
     }
 
+    /// At the coordinates' floor: a Newton step solved to `forcing`, then its rounding
+    /// chosen by [`lattice_rounding`]; of the two points the one of lower ‖g‖, with its
+    /// gradient, if that is below ‖`g`‖ and F is no higher than `f` beyond round-off. The
+    /// step's matrix is the last Newton step's (`last_exact`, and its readied form `kept`
+    /// if the run kept it), else a fresh exact Hessian's, which updates the floor's
+    /// estimate.
+    fn lattice_step(
+        &mut self,
+        last_exact: Option<(BlockHessian, u64)>,
+        kept: Option<S::Ready>,
+        (g, positions, f): (&[f64], &[[f64; 3]], f64),
+        forcing: f64,
+    ) -> Option<NewtonStep> {
+        let free = self.functional.free_index();
+        let (h, kept) = match last_exact {
+            Some((h, key)) => {
+                let ready = match kept {
+                    Some(ready) => Some(ready),
+                    None => self.factor(&h, key, 0.0),
+                };
+                (h, ready)
+            }
+            None => {
+                if let Some(old) = kept {
+                    self.solver.recycle(old);
+                }
+                let h = self.hessians(positions, HessianKind::Exact, false).exact?;
+                self.report.coordinate_floor = Some(coordinate_floor(&h, positions, free));
+                let ready = self.factor(&h, 2 * self.passes, 0.0);
+                (h, ready)
+            }
+        };
+        let ready = kept?;
+        let delta = self.solver.solve(&ready, g, forcing);
+        self.solver.recycle(ready);
+        let stepped = moved(positions, free, &delta?, 1.0);
+        let (stepped_terms, stepped_gradient) = self.functional.gradient(&stepped);
+        let rounded = lattice_rounding(&h, &stepped_gradient, &stepped, free);
+        let mut candidates = vec![(stepped, stepped_terms, stepped_gradient)];
+        // A rounding its model says gains nothing is not evaluated.
+        if rounded.predicted < norm(&candidates[0].2) {
+            let (terms, gradient) = self.functional.gradient(&rounded.positions);
+            candidates.push((rounded.positions, terms, gradient));
+        }
+        candidates
+            .into_iter()
+            .filter(|(_, t, gt)| decreases(t.f, f) && norm(gt) < norm(g))
+            .min_by(|a, b| norm(&a.2).total_cmp(&norm(&b.2)))
+            .map(|(positions, terms, gradient)| {
+                (
+                    Trial { terms, positions },
+                    gradient,
+                    StepKind::LatticeRounding,
+                )
+            })
+    }
+
     /// Backtracking along −g (a safeguard, not in the paper) for when no H + νI gave a
     /// decrease: a non-finite Hessian entry at a nearly degenerate point, say.
     fn steepest_descent(
@@ -711,6 +779,14 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
         None
     }
 }
+
+/// The relative residual of a [`StepKind::LatticeRounding`] step's solve: the step is to
+/// leave a gradient well below the floor it starts within twice of, before its rounding.
+const LATTICE_FORCING: f64 = 1e-2;
+
+/// [`StepKind::LatticeRounding`] steps a run takes at most: on the 14 399-vertex junction
+/// (2026-11-30) a second one from the first's point gained nothing.
+const LATTICE_STEPS: usize = 2;
 
 /// The factor by which a Levenberg–Marquardt search raises ν after a trial that did not
 /// lower F. Climbs from a start far below the ν that works took 2 to 5 failed trials of
@@ -892,18 +968,41 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
     // (`NewtonOptions::newton_backoff`).
     let mut trials_skipped = 0usize;
     let mut next_skip = 1usize;
+    let mut lattice_steps_left = LATTICE_STEPS;
+    // The exact Hessian of the last Newton step from a fresh pass, with its key: the model
+    // of a lattice step (its moves are ulps: a Hessian one step old predicts them).
+    let mut last_exact: Option<(BlockHessian, u64)> = None;
     while run.report.iterations.len() < options.max_iterations {
         let gnorm = norm(&g);
         if gnorm <= options.relative_gradient * g0 {
             run.report.converged = true;
             break;
         }
-        if run.report.at_coordinate_floor(gnorm) {
-            run.report.stalled = true;
-            break;
-        }
         let mut step = None;
+        // 0. At the coordinates' floor, above the tolerance: the rounding chosen.
+        if run.report.at_coordinate_floor(gnorm) {
+            if lattice_steps_left > 0 {
+                lattice_steps_left -= 1;
+                let forcing =
+                    (0.5 * options.relative_gradient * g0 / gnorm).clamp(LATTICE_FORCING, 0.5);
+                let clock = Instant::now();
+                step = run
+                    .lattice_step(
+                        last_exact.take(),
+                        reusable.take(),
+                        (&g, positions, terms.f),
+                        forcing,
+                    )
+                    .map(|(trial, gt, kind)| (trial, Some(gt), kind, None));
+                run.report.lattice_seconds += clock.elapsed().as_secs_f64();
+            }
+            if step.is_none() {
+                run.report.stalled = true;
+                break;
+            }
+        }
         // 1. Newton with the kept factor.
+        // (A lattice step took the kept factor: `reusable` is `None` whenever `step` is set.)
         if let Some(factor) = reusable.take() {
             let trial;
             (trial, reusable) = run.newton_kept(factor, &g, positions, terms.f, options);
@@ -946,6 +1045,7 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
             } else {
                 HessianKind::Exact
             };
+            last_exact = None;
             let hessians = run.hessians(positions, kind, far_model);
             // F and g at `positions` are known; the Hessians' pass has them again, from
             // the same quadrature unless the Hessians come from fewer nodes.
@@ -973,7 +1073,9 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
                     next_skip = next_skip.saturating_mul(2);
                 }
             }
-            if step.is_none() {
+            if step.is_some() {
+                last_exact = exact.map(|h| (h, exact_key));
+            } else {
                 let (h, key) = match (options.lm_matrix, gauss_newton, exact) {
                     (LmMatrix::Exact, _, Some(h)) => (h, exact_key),
                     (LmMatrix::GaussNewton, Some(gn), _) => (gn, exact_key + 1),
@@ -1045,8 +1147,14 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
         if options.stall_steps > 0 && stalled_steps >= options.stall_steps {
             let gnorm = norm(&g);
             if gnorm > options.relative_gradient * g0 {
-                run.report.stalled = run.report.at_coordinate_floor(gnorm);
-                run.report.stuck = !run.report.stalled;
+                let floor = run.report.at_coordinate_floor(gnorm);
+                if floor && lattice_steps_left > 0 {
+                    // The next iteration chooses the rounding.
+                    stalled_steps = 0;
+                    continue;
+                }
+                run.report.stalled = floor;
+                run.report.stuck = !floor;
             }
             break;
         }
