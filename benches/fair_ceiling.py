@@ -76,7 +76,8 @@ class Run:
         ratio = self.report["final_gradient_norm"] / g0
         floor = newton.get("coordinate_floor")
         floor_cell = f"{floor / g0:.1e}" if floor else "   -   "
-        mark = "*" if self.at_floor else " "
+        chose_rounding = any(it["step"] == "lattice_rounding" for it in newton["iterations"])
+        mark = "*" if self.at_floor else "r" if chose_rounding else " "
         gauss_newton_only = newton.get("gauss_newton_only_evaluations", 0)
         hessians = (
             f"{newton['hessian_evaluations']}+{gauss_newton_only}+{coarse_hessians(self.report)}"
@@ -233,8 +234,9 @@ def main() -> None:
                 flush=True,
             )
     print(
-        "floor: the gradient's floor for double coordinates (|H u|, u their rounding) over"
-        " |g0|; *: stopped there, above the tolerance; EV/med: mean length of the edges at the"
+        "floor: the gradient's floor for double coordinates (|H u|, u their rounding to"
+        " nearest) over |g0|; r: reached with the rounding chosen at that floor; *: stopped"
+        " there, above the tolerance, even so; EV/med: mean length of the edges at the"
         " extraordinary vertices over the median edge length, of the input and of the optimum"
     )
     for name, row in results.items():

