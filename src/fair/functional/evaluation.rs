@@ -364,9 +364,10 @@ fn pack(d: &[[f64; 3]; DERIVATIVES]) -> [f64; VARS] {
 /// a fine element's derivatives lose the digits its size lacks against the mesh's, and
 /// the gradient is noise at the minimum: at the 223 487-vertex three-tube junction's
 /// (‖g‖ 6.2·10⁻², 3.7·10⁶ at the start) the two sums' gradients differed by 3.4·10⁻², two
-/// relative sums (to the first and to the last vertex) by 2.8·10⁻⁵. (That junction still
-/// stops near 1.1·10⁻⁸ ‖g₀‖: the floor of its `f64` coordinates,
-/// [`crate::fair::solvers::coordinate_floor`].)
+/// relative sums (to the first and to the last vertex) by 2.8·10⁻⁵. (That junction then
+/// still stopped near 1.1·10⁻⁸ ‖g₀‖, the floor of its `f64` coordinates rounded to nearest,
+/// [`crate::fair::solvers::coordinate_floor`]; with the rounding chosen,
+/// [`crate::fair::solvers::lattice_rounding`], it reaches 1.4·10⁻⁹, 2026-11-30.)
 /// A derivative's coefficients sum to 0 only up to the rounding of their construction
 /// (10⁻¹⁰ of their magnitudes at the G² surface's special elements), hence the sums added
 /// back; they are summed here rather than stored (72 bytes a point, 255 MB at that size)

@@ -39,7 +39,7 @@ pub enum StepKind {
     /// Backtracking step along −g when no H + νI gave one (a safeguard, not in the paper).
     SteepestDescent,
     /// At the floor of `f64` coordinates: a Newton step whose rounding is chosen, not to
-    /// nearest ([`crate::fair::solvers::lattice_rounding`]).
+    /// nearest (`src/fair/solvers/lattice_rounding.rs`).
     LatticeRounding,
 }
 
