@@ -13,6 +13,7 @@
 //! 9.5·10⁻⁸ after a fresh Newton step and 40 sweeps — the gradient evaluated, not predicted.
 
 use crate::fair::functional::evaluation::BlockHessian;
+use crate::fair::solvers::multilevel::block_csr::UpperLayout;
 use crate::linalg::norm;
 
 /// Sweeps at most: on the 14k junction, after a Newton step, ‖g + H Δ‖ fell from 8.2·10⁻⁷
@@ -21,80 +22,6 @@ pub const MAX_SWEEPS: usize = 40;
 
 /// A sweep that lowers ‖g + H Δ‖² by less than this fraction ends the descent.
 const LEAST_SWEEP_GAIN: f64 = 1e-3;
-
-/// One entry of a block row of the full symmetric matrix: the stored block, the other
-/// vertex, and whether the block is stored the other way round.
-#[derive(Clone, Copy)]
-struct RowBlock {
-    slot: u32,
-    other: u32,
-    transposed: bool,
-}
-
-/// The block rows of the full symmetric matrix `h` stores one triangle of.
-struct Rows {
-    offsets: Vec<usize>,
-    entries: Vec<RowBlock>,
-}
-
-impl Rows {
-    fn new(h: &BlockHessian, count: usize) -> Self {
-        let mut offsets = vec![0usize; count + 1];
-        for &(i, j) in &h.blocks {
-            offsets[i as usize + 1] += 1;
-            if i != j {
-                offsets[j as usize + 1] += 1;
-            }
-        }
-        for k in 0..count {
-            offsets[k + 1] += offsets[k];
-        }
-        let mut next = offsets.clone();
-        let mut entries = vec![
-            RowBlock {
-                slot: 0,
-                other: 0,
-                transposed: false
-            };
-            offsets[count]
-        ];
-        for (slot, &(i, j)) in h.blocks.iter().enumerate() {
-            let slot = slot as u32;
-            entries[next[i as usize]] = RowBlock {
-                slot,
-                other: j,
-                transposed: false,
-            };
-            next[i as usize] += 1;
-            if i != j {
-                entries[next[j as usize]] = RowBlock {
-                    slot,
-                    other: i,
-                    transposed: true,
-                };
-                next[j as usize] += 1;
-            }
-        }
-        Rows { offsets, entries }
-    }
-
-    fn of(&self, vertex: usize) -> &[RowBlock] {
-        &self.entries[self.offsets[vertex]..self.offsets[vertex + 1]]
-    }
-}
-
-/// H[3i + a, 3j + c] for `e` in block row i (diagonal blocks hold their upper triangle).
-#[inline]
-fn entry(h: &BlockHessian, vertex: u32, e: RowBlock, a: usize, c: usize) -> f64 {
-    let v = &h.values[e.slot as usize];
-    if e.other == vertex {
-        v[a.min(c)][a.max(c)]
-    } else if e.transposed {
-        v[c][a]
-    } else {
-        v[a][c]
-    }
-}
 
 /// The outcome of [`lattice_rounding`].
 pub struct Rounded {
@@ -115,7 +42,9 @@ pub fn lattice_rounding(
     free: &[u32],
 ) -> Rounded {
     let count = g.len() / 3;
-    let rows = Rows::new(h, count);
+    // Block row i of the full symmetric matrix: H[3i + a, 3j + c] = block[a][c] for each
+    // entry k of `layout.row(i)`, j its column (H[3j + c, 3i + a] the same by symmetry).
+    let layout = UpperLayout::new(h, count);
     let mut x = vec![[0.0; 3]; count];
     for (p, &i) in positions.iter().zip(free) {
         if i != u32::MAX {
@@ -125,16 +54,14 @@ pub fn lattice_rounding(
     // ‖H e_k‖² of every coordinate k.
     let column_norms: Vec<[f64; 3]> = (0..count)
         .map(|i| {
-            std::array::from_fn(|a| {
-                rows.of(i)
-                    .iter()
-                    .map(|&e| {
-                        (0..3)
-                            .map(|c| entry(h, i as u32, e, a, c).powi(2))
-                            .sum::<f64>()
-                    })
-                    .sum()
-            })
+            let mut sums = [0.0; 3];
+            for k in layout.row(i) {
+                let block = layout.block(h, k);
+                for (sum, row) in sums.iter_mut().zip(&block) {
+                    *sum += row.iter().map(|v| v * v).sum::<f64>();
+                }
+            }
+            sums
         })
         .collect();
     let mut r = g.to_vec();
@@ -149,14 +76,12 @@ pub fn lattice_rounding(
                 if !(b > 0.0 && b.is_finite()) {
                     continue;
                 }
-                let dot: f64 = rows
-                    .of(i)
-                    .iter()
-                    .map(|&e| {
-                        let j = 3 * e.other as usize;
-                        (0..3)
-                            .map(|c| entry(h, i as u32, e, a, c) * r[j + c])
-                            .sum::<f64>()
+                let dot: f64 = layout
+                    .row(i)
+                    .map(|k| {
+                        let j = 3 * layout.column(k) as usize;
+                        let block = layout.block(h, k);
+                        (0..3).map(|c| block[a][c] * r[j + c]).sum::<f64>()
                     })
                     .sum();
                 // The f64 nearest the coordinate's exact minimizer x − dot / b.
@@ -167,10 +92,11 @@ pub fn lattice_rounding(
                 if d == 0.0 || change.partial_cmp(&0.0) != Some(std::cmp::Ordering::Less) {
                     continue;
                 }
-                for &e in rows.of(i) {
-                    let j = 3 * e.other as usize;
+                for k in layout.row(i) {
+                    let j = 3 * layout.column(k) as usize;
+                    let block = layout.block(h, k);
                     for c in 0..3 {
-                        r[j + c] += entry(h, i as u32, e, a, c) * d;
+                        r[j + c] += block[a][c] * d;
                     }
                 }
                 x[i][a] = moved;

@@ -221,23 +221,37 @@ impl UpperLayout {
         h.blocks.len() == self.block_count
     }
 
-    /// The full symmetric matrix of `h`; a diagonal block is read from its upper triangle
-    /// (the lower one of a Hessian's diagonal block need not be filled).
+    /// The entries of block row `row` (a vertex): indices for [`Self::column`] and
+    /// [`Self::block`], by increasing column.
+    pub fn row(&self, row: usize) -> std::ops::Range<usize> {
+        self.row_start[row]..self.row_start[row + 1]
+    }
+
+    /// The block column (vertex) of entry `k`.
+    pub fn column(&self, k: usize) -> u32 {
+        self.columns[k]
+    }
+
+    /// Entry `k`'s block of the full symmetric matrix of `h`; a diagonal block is read from
+    /// its upper triangle (the lower one of a Hessian's diagonal block need not be filled).
+    pub fn block(&self, h: &BlockHessian, k: usize) -> Block {
+        let s = self.source[k];
+        let v = &h.values[(s & !TRANSPOSED) as usize];
+        let (i, j) = h.blocks[(s & !TRANSPOSED) as usize];
+        if i == j {
+            std::array::from_fn(|a| std::array::from_fn(|b| v[a.min(b)][a.max(b)]))
+        } else if s & TRANSPOSED != 0 {
+            std::array::from_fn(|a| std::array::from_fn(|b| v[b][a]))
+        } else {
+            *v
+        }
+    }
+
+    /// The full symmetric matrix of `h` ([`Self::block`] for every entry).
     pub fn fill(&self, h: &BlockHessian) -> BlockCsr {
-        let values = self
-            .source
-            .par_iter()
-            .map(|&s| {
-                let v = &h.values[(s & !TRANSPOSED) as usize];
-                let (i, j) = h.blocks[(s & !TRANSPOSED) as usize];
-                if i == j {
-                    std::array::from_fn(|a| std::array::from_fn(|b| v[a.min(b)][a.max(b)]))
-                } else if s & TRANSPOSED != 0 {
-                    std::array::from_fn(|a| std::array::from_fn(|b| v[b][a]))
-                } else {
-                    *v
-                }
-            })
+        let values = (0..self.source.len())
+            .into_par_iter()
+            .map(|k| self.block(h, k))
             .collect();
         BlockCsr {
             row_start: self.row_start.clone(),
