@@ -611,6 +611,7 @@ fn fair_optimize_stops_at_the_floor_of_its_coordinates() {
         "{:?}",
         n.iterations
     );
+    assert!(n.lattice_sweeps > 0, "{n:?}");
     let reached = report.final_gradient_norm;
     assert!(reached < floor, "‖g‖ {reached:e}, floor {floor:e}");
     let between = (reached * floor).sqrt() / n.initial_gradient_norm;

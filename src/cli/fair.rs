@@ -646,8 +646,9 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
             .count();
         if let (true, Some(floor)) = (lattice > 0, n.coordinate_floor) {
             println!(
-                "  rounding chosen at the floor of f64 coordinates: {lattice} step(s), {:.1} s, \
-                 to |g|/|g0| {:.2e} (rounding to nearest: {:.2e})",
+                "  rounding chosen at the floor of f64 coordinates: {lattice} step(s), {} sweep(s), \
+                 {:.1} s, to |g|/|g0| {:.2e} (rounding to nearest: {:.2e})",
+                n.lattice_sweeps,
                 n.lattice_seconds,
                 report.final_gradient_norm / report.initial_gradient_norm,
                 floor / report.initial_gradient_norm
