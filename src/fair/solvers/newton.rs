@@ -702,11 +702,11 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
     }
 
     /// At the coordinates' floor: a Newton step solved to `forcing`, then its rounding
-    /// chosen by [`lattice_rounding`] until its model predicts `target`; of the two points the one of lower ‖g‖, with its
-    /// gradient, if that is below ‖`g`‖ and F is no higher than `f` beyond round-off. The
-    /// step's matrix is the last Newton step's (`last_exact`, and its readied form `kept`
-    /// if the run kept it), else a fresh exact Hessian's, which updates the floor's
-    /// estimate.
+    /// chosen by [`lattice_rounding`] until its model predicts `target`; of the two points
+    /// the one of lower ‖g‖, with its gradient, if that is below ‖`g`‖ and F is no higher
+    /// than `f` beyond round-off. The step's matrix is the last Newton step's (`last_exact`,
+    /// and its readied form `kept` if the run kept it), else a fresh exact Hessian's, which
+    /// updates the floor's estimate.
     fn lattice_step(
         &mut self,
         last_exact: Option<(BlockHessian, u64)>,
