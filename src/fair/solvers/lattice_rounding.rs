@@ -13,7 +13,7 @@
 //! 9.5·10⁻⁸ after a fresh Newton step and 40 sweeps — the gradient evaluated, not predicted.
 
 use crate::fair::functional::evaluation::BlockHessian;
-use crate::fair::solvers::multilevel::block_csr::UpperLayout;
+use crate::fair::solvers::multilevel::block_csr::{Block, UpperLayout};
 use crate::linalg::norm;
 
 /// Sweeps at most: on the 14k junction, after a Newton step, ‖g + H Δ‖ fell from 8.2·10⁻⁷
@@ -57,14 +57,25 @@ pub fn lattice_rounding(
             x[i as usize] = *p;
         }
     }
+    // Block row i's entries as (3j, block), built once per vertex and used by its three
+    // coordinates (`UpperLayout::block` assembles a block from its stored triangle).
+    let mut row = Vec::new();
+    let row_of = |i: usize, row: &mut Vec<(usize, Block)>| {
+        row.clear();
+        row.extend(
+            layout
+                .row(i)
+                .map(|k| (3 * layout.column(k) as usize, layout.block(h, k))),
+        );
+    };
     // ‖H e_k‖² of every coordinate k.
     let column_norms: Vec<[f64; 3]> = (0..count)
         .map(|i| {
+            row_of(i, &mut row);
             let mut sums = [0.0; 3];
-            for k in layout.row(i) {
-                let block = layout.block(h, k);
-                for (sum, row) in sums.iter_mut().zip(&block) {
-                    *sum += row.iter().map(|v| v * v).sum::<f64>();
+            for (_, block) in &row {
+                for (sum, block_row) in sums.iter_mut().zip(block) {
+                    *sum += block_row.iter().map(|v| v * v).sum::<f64>();
                 }
             }
             sums
@@ -77,18 +88,15 @@ pub fn lattice_rounding(
         sweeps += 1;
         let before = squared;
         for i in 0..count {
+            row_of(i, &mut row);
             for a in 0..3 {
                 let b = column_norms[i][a];
                 if !(b > 0.0 && b.is_finite()) {
                     continue;
                 }
-                let dot: f64 = layout
-                    .row(i)
-                    .map(|k| {
-                        let j = 3 * layout.column(k) as usize;
-                        let block = layout.block(h, k);
-                        (0..3).map(|c| block[a][c] * r[j + c]).sum::<f64>()
-                    })
+                let dot: f64 = row
+                    .iter()
+                    .map(|(j, block)| (0..3).map(|c| block[a][c] * r[j + c]).sum::<f64>())
                     .sum();
                 // The f64 nearest the coordinate's exact minimizer x − dot / b.
                 let moved = x[i][a] - dot / b;
@@ -98,9 +106,7 @@ pub fn lattice_rounding(
                 if d == 0.0 || change.partial_cmp(&0.0) != Some(std::cmp::Ordering::Less) {
                     continue;
                 }
-                for k in layout.row(i) {
-                    let j = 3 * layout.column(k) as usize;
-                    let block = layout.block(h, k);
+                for (j, block) in &row {
                     for c in 0..3 {
                         r[j + c] += block[a][c] * d;
                     }
@@ -180,28 +186,50 @@ mod tests {
             .sqrt()
     }
 
-    #[test]
-    fn the_chosen_rounding_lowers_the_exact_gradient_below_rounding_to_nearest() {
-        let count = 500;
+    /// The chain of `count` vertices at its positions rounded to nearest: x* = 1.5 + m 2⁻⁶⁰,
+    /// m pseudo-random below 2¹⁶ (8 bits below the doubles' lattice), rounded to the
+    /// multiple of 2⁸ units nearest it. Returns H, x*, that rounding (both in units), its
+    /// doubles and its exact gradient H (X − X*) as doubles.
+    #[allow(clippy::type_complexity)]
+    fn rounded_to_nearest(
+        count: usize,
+        seed: u64,
+    ) -> (
+        BlockHessian,
+        Vec<[i128; 3]>,
+        Vec<[i128; 3]>,
+        Vec<[f64; 3]>,
+        Vec<f64>,
+    ) {
         let h = chain(count);
-        // x* = 1.5 + m 2⁻⁶⁰, m pseudo-random below 2¹⁶: 8 bits below the doubles' lattice.
-        let mut offsets = SmallRng::seed_from_u64(7);
+        let mut offsets = SmallRng::seed_from_u64(seed);
         let star: Vec<[i128; 3]> = (0..count)
             .map(|_| std::array::from_fn(|_| (3i128 << 59) + offsets.random_range(0..1 << 16)))
             .collect();
-        // Rounding to nearest: the multiple of 2⁸ units nearest x*.
         let nearest: Vec<[i128; 3]> = star
             .iter()
             .map(|p| std::array::from_fn(|a| ((p[a] + 128) >> 8) << 8))
             .collect();
-        let to_f64 = |p: &[i128; 3]| -> [f64; 3] { std::array::from_fn(|a| p[a] as f64 * UNIT) };
-        let positions: Vec<[f64; 3]> = nearest.iter().map(to_f64).collect();
+        let positions: Vec<[f64; 3]> = nearest
+            .iter()
+            .map(|p| std::array::from_fn(|a| p[a] as f64 * UNIT))
+            .collect();
+        let g = exact_residual(&h, &nearest, &star)
+            .iter()
+            .map(|&v| v as f64 * UNIT)
+            .collect();
+        (h, star, nearest, positions, g)
+    }
+
+    #[test]
+    fn the_chosen_rounding_lowers_the_exact_gradient_below_rounding_to_nearest() {
+        let count = 500;
+        let (h, star, nearest, positions, g) = rounded_to_nearest(count, 7);
         // Exactly representable: the doubles are the lattice points themselves.
         for (p, q) in positions.iter().zip(&nearest) {
             assert_eq!((p[0] / UNIT) as i128, q[0]);
         }
         let r0 = exact_residual(&h, &nearest, &star);
-        let g: Vec<f64> = r0.iter().map(|&v| v as f64 * UNIT).collect();
         let free: Vec<u32> = (0..count as u32).collect();
         let rounded = lattice_rounding(&h, &g, &positions, &free, 0.0);
         let chosen: Vec<[i128; 3]> = rounded
@@ -234,23 +262,7 @@ mod tests {
         // it stops gaining; with a target between its start and its end it stops at the
         // first sweep that meets the target, earlier and higher.
         let count = 500;
-        let h = chain(count);
-        let mut offsets = SmallRng::seed_from_u64(11);
-        let star: Vec<[i128; 3]> = (0..count)
-            .map(|_| std::array::from_fn(|_| (3i128 << 59) + offsets.random_range(0..1 << 16)))
-            .collect();
-        let nearest: Vec<[i128; 3]> = star
-            .iter()
-            .map(|p| std::array::from_fn(|a| ((p[a] + 128) >> 8) << 8))
-            .collect();
-        let positions: Vec<[f64; 3]> = nearest
-            .iter()
-            .map(|p| std::array::from_fn(|a| p[a] as f64 * UNIT))
-            .collect();
-        let g: Vec<f64> = exact_residual(&h, &nearest, &star)
-            .iter()
-            .map(|&v| v as f64 * UNIT)
-            .collect();
+        let (h, _, _, positions, g) = rounded_to_nearest(count, 11);
         let free: Vec<u32> = (0..count as u32).collect();
         let start = norm(&g);
         let full = lattice_rounding(&h, &g, &positions, &free, 0.0);
