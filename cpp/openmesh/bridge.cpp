@@ -114,6 +114,20 @@ bool is_degenerate(const std::vector<PolyMesh::VertexHandle>& vs) {
   return std::adjacent_find(ids.begin(), ids.end()) != ids.end();
 }
 
+// Whether the n corners at `corners` repeat a vertex: small facets by pairs, large ones
+// sorted in `scratch` (a facet may have a million corners).
+bool has_repeated_corner(const uint32_t* corners, size_t n, std::vector<uint32_t>& scratch) {
+  if (n <= 32) {
+    for (size_t i = 0; i < n; ++i)
+      for (size_t j = i + 1; j < n; ++j)
+        if (corners[i] == corners[j]) return true;
+    return false;
+  }
+  scratch.assign(corners, corners + n);
+  std::sort(scratch.begin(), scratch.end());
+  return std::adjacent_find(scratch.begin(), scratch.end()) != scratch.end();
+}
+
 // Adds one face; returns its status and appends OpenMesh's message (if any) to `said`.
 uint8_t add_one(HalfEdgeMesh& m, const uint32_t* corners, size_t n, uint32_t input_id,
                 CaptureOmerr& capture, std::string& said) {
@@ -169,9 +183,14 @@ bool build_manifold(HalfEdgeMesh& m, rust::Slice<const uint32_t> offsets,
     next_of.resize(nh);
     prev_of.resize(nh);
   }
+  std::vector<uint32_t> sorted_corners;
   for (size_t f = 0; f < nf; ++f) {
     const uint32_t a = offset[f], b = offset[f + 1];
     if (b < a || b - a < 3) return false;
+    // A repeated corner (f 1 2 3 1) is a degenerate facet: add_face refuses it. Built
+    // here it would be a self-loop half-edge or a facet on both sides of its own edges,
+    // which OpenMesh's walks do not survive.
+    if (has_repeated_corner(corner + a, b - a, sorted_corners)) return false;
     for (uint32_t h = a; h < b; ++h) {
       if (corner[h] >= nv) return false;
       if (arity == 0) {

@@ -348,7 +348,9 @@ pub fn locate_with(
         let face = &corners[offsets[f] as usize..offsets[f + 1] as usize];
         let mut x = face.to_vec();
         let mut y = cycle.to_vec();
+        // A degenerate facet's repeated corner is no edge of its border.
         x.sort_unstable();
+        x.dedup();
         y.sort_unstable();
         (x == y).then(|| facet_id(f as u32))
     };
