@@ -408,8 +408,10 @@ pub fn fit_and_fill(data: &ScatteredData, setup: &FitSetup) -> Result<FitOutcome
 }
 
 /// The data of a generalized offset of the surface the data sample (2022 (3)): fits σ_f
-/// to the data (no hole), takes the frame (e₁, e₂, n) of σ_f at each parameter (2022 (2))
-/// and returns pₐ + d₁e₁ + d₂e₂ + d₃n with `distances(u, v) = (d₁, d₂, d₃)`.
+/// to the data, takes the frame (e₁, e₂, n) of σ_f at each parameter (2022 (2)) and returns
+/// pₐ + d₁e₁ + d₂e₂ + d₃n with `distances(u, v) = (d₁, d₂, d₃)`. σ_f is fitted with the
+/// setup's hole, so that cells the hole leaves without data are allowed; its fill is not
+/// needed (the frames are taken at the data).
 ///
 /// Errors: those of [`fit_and_fill`]; `InvalidInput` where σ_f is not regular or a
 /// distance fails.
@@ -421,7 +423,6 @@ pub fn offset_data(
     let base = fit_and_fill(
         data,
         &FitSetup {
-            hole: HoleSource::None,
             shape: None,
             ..setup.clone()
         },
@@ -513,6 +514,50 @@ mod tests {
             crate::assert_near!(q[0] - p[0], -0.5 * s, SOLVE);
             crate::assert_near!(q[1] - p[1], 0.0, SOLVE);
             crate::assert_near!(q[2] - p[2], s, SOLVE);
+        }
+    }
+
+    #[test]
+    fn the_offset_of_data_with_a_gap_is_filled_across_it() {
+        // The plane f(u, v) = (u, v, 0.5u) sampled with a square gap [0.4, 0.6]²: 5 × 5 cells
+        // leave cell (2, 2) without data, the hole. The offset data are the points shifted
+        // by 0.1n, and the filled offset surface is that shifted plane in the gap too.
+        let mut d = ScatteredData::default();
+        for i in 0..40 {
+            for j in 0..40 {
+                let (u, v) = (i as f64 / 39.0, j as f64 / 39.0);
+                if (0.4..=0.6).contains(&u) && (0.4..=0.6).contains(&v) {
+                    continue;
+                }
+                d.params.push([u, v]);
+                d.points.push([u, v, 0.5 * u]);
+            }
+        }
+        let setup = FitSetup {
+            space: SpaceKind::Biquadratic,
+            cells: [5, 5],
+            epsilon: 1e-9,
+            hole: HoleSource::CellsWithoutData,
+            variant: FillVariant::Paper,
+            shape: None,
+        };
+        let o = offset_data(&d, &setup, &|_, _| Ok([0.0, 0.0, 0.1])).unwrap();
+        let s = 0.1 / 1.25f64.sqrt();
+        let shifted = |p: [f64; 3]| [p[0] - 0.5 * s, p[1], p[2] + s];
+        for (p, q) in d.points.iter().zip(&o.points) {
+            let expected = shifted(*p);
+            for k in 0..3 {
+                crate::assert_near!(q[k], expected[k], SOLVE);
+            }
+        }
+        let filled = fit_and_fill(&o, &setup).unwrap();
+        assert_eq!(filled.summary.hole_cells, 1);
+        // The offset surface's parameters are the data's: at (0.5, 0.5), inside the gap,
+        // it passes through the shifted plane's point over f(0.5, 0.5).
+        let centre = filled.eval(0.5, 0.5).unwrap();
+        let expected = shifted([0.5, 0.5, 0.25]);
+        for k in 0..3 {
+            crate::assert_near!(centre[k], expected[k], 1e-6);
         }
     }
 
