@@ -289,17 +289,6 @@ pub fn fit_and_fill(data: &ScatteredData, setup: &FitSetup) -> Result<FitOutcome
         SpaceKind::BfsC1 => Box::new(TensorSpace::bfs_c1(px.clone(), py.clone())?),
     };
     let grid: Grid = space.grid().clone();
-    let fit = smoothing_spline(
-        space.as_ref(),
-        &data.params,
-        &data.points,
-        &[],
-        &SmoothingOptions {
-            epsilon: setup.epsilon,
-            m: 2,
-            domain: None,
-        },
-    )?;
     let mask = match &setup.hole {
         HoleSource::None => None,
         HoleSource::Shapes(h) => Some(h.cells(&grid)?),
@@ -333,6 +322,18 @@ pub fn fit_and_fill(data: &ScatteredData, setup: &FitSetup) -> Result<FitOutcome
             setup.cells[1]
         )));
     }
+    // After the checks that need no solve.
+    let fit = smoothing_spline(
+        space.as_ref(),
+        &data.params,
+        &data.points,
+        &[],
+        &SmoothingOptions {
+            epsilon: setup.epsilon,
+            m: 2,
+            domain: None,
+        },
+    )?;
     let mut shape_report = None;
     let fill =
         match (&mask, &setup.shape) {

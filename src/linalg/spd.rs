@@ -1,17 +1,25 @@
 //! Sparse symmetric positive definite solves by faer's sparse Cholesky.
 
-use faer::linalg::solvers::Solve;
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef};
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
-use faer::{Mat, Side};
+use faer::{Conj, Mat, Side};
 
 use crate::error::{Error, Result, SolverFailure};
+use crate::limits::MemoryBudget;
 
 /// Solves A xₖ = bₖ for each right-hand side with one sparse Cholesky factorization of the
 /// symmetric matrix A given by its (row, col, value) entries (both triangles or only the
 /// lower one; duplicates are summed; only the lower triangle is read).
 ///
+/// The factor's size is known from the symbolic analysis before any numeric work: it is
+/// checked against the process's memory budget ([`MemoryBudget::default`]), so a spline
+/// of a million cells is refused with the size it needs, not reported as a failed
+/// factorization once the allocator gives up.
+///
 /// Errors: `InvalidInput` on an index out of range or a right-hand side of the wrong length
-/// or a non-finite entry; `Solver { NotPositiveDefinite }` if the factorization breaks down.
+/// or a non-finite entry; `ResourceLimit` when the factor and its workspace exceed the
+/// budget; `Solver { NotPositiveDefinite }` if the factorization breaks down.
 pub fn solve_spd(
     n: usize,
     entries: &[(usize, usize, f64)],
@@ -33,17 +41,67 @@ pub fn solve_spd(
     let (col_ptr, row_idx, values) = lower_csc(n, entries);
     let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
     let a = SparseColMat::<usize, f64>::new(symbolic, values);
-    let llt = a.sp_cholesky(Side::Lower).map_err(|e| Error::Solver {
-        failure: SolverFailure::NotPositiveDefinite,
-        detail: format!("sparse Cholesky of a matrix of order {n}: {e}"),
-    })?;
+    let failed = |what: &str, e: &dyn std::fmt::Debug| Error::Solver {
+        failure: SolverFailure::Singular,
+        detail: format!("{what} of a matrix of order {n}: {e:?}"),
+    };
+    let analysis = factorize_symbolic_cholesky(
+        a.symbolic(),
+        Side::Lower,
+        Default::default(),
+        Default::default(),
+    )
+    .map_err(|e| failed("symbolic Cholesky", &e))?;
+    let par = faer::get_global_parallelism();
+    let factor_scratch = analysis.factorize_numeric_llt_scratch::<f64>(par, Default::default());
+    let solve_scratch = analysis.solve_in_place_scratch::<f64>(rhs.len(), par);
+    let needed = (analysis.len_val() as u64)
+        .saturating_mul(8)
+        .saturating_add(factor_scratch.size_bytes().max(solve_scratch.size_bytes()) as u64);
+    let budget = MemoryBudget::default();
+    if needed > budget.get() {
+        return Err(Error::ResourceLimit {
+            what: format!(
+                "the sparse Cholesky factor of a system of order {n} ({})",
+                crate::limits::human_bytes(needed)
+            ),
+            limit: budget.get(),
+            advice: "use fewer cells".into(),
+        });
+    }
+    let mut factor = Vec::new();
+    factor
+        .try_reserve_exact(analysis.len_val())
+        .map_err(|e| failed("Cholesky factor storage", &e))?;
+    factor.resize(analysis.len_val(), 0.0);
+    let mut scratch = MemBuffer::try_new(factor_scratch.or(solve_scratch))
+        .map_err(|e| failed("Cholesky workspace", &e))?;
+    analysis
+        .factorize_numeric_llt(
+            &mut factor,
+            a.as_ref(),
+            Side::Lower,
+            Default::default(),
+            par,
+            MemStack::new(&mut scratch),
+            Default::default(),
+        )
+        .map_err(|e| Error::Solver {
+            failure: SolverFailure::NotPositiveDefinite,
+            detail: format!("sparse Cholesky of a matrix of order {n}: {e:?}"),
+        })?;
     let mut b = Mat::<f64>::zeros(n, rhs.len());
     for (k, col) in rhs.iter().enumerate() {
         for (i, &v) in col.iter().enumerate() {
             b[(i, k)] = v;
         }
     }
-    llt.solve_in_place(&mut b);
+    LltRef::new(&analysis, &factor).solve_in_place_with_conj(
+        Conj::No,
+        b.as_mut(),
+        par,
+        MemStack::new(&mut scratch),
+    );
     let out: Vec<Vec<f64>> = (0..rhs.len())
         .map(|k| (0..n).map(|i| b[(i, k)]).collect())
         .collect();
