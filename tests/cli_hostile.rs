@@ -168,6 +168,38 @@ fn no_output_may_name_an_input_another_output_or_a_missing_folder() {
         &["limit", "{in}", "-o", "{dir}/x.ply", "--png", "{dir}/x.ply"],
         "name the same file",
     );
+    // limit's picture, when --png is not given, is the output's name with .png.
+    for message in [
+        "--png (by default the output's name with .png) ",
+        "/l4.png and --html ",
+        "/l4.png name the same file",
+    ] {
+        refused(
+            &[
+                "limit",
+                "{in}",
+                "-o",
+                "{dir}/l4.ply",
+                "--html",
+                "{dir}/l4.png",
+            ],
+            message,
+        );
+    }
+    // fair's pictures in an existing --figures folder.
+    refused(
+        &[
+            "fair",
+            "{in}",
+            "-o",
+            "{dir}/o.obj",
+            "--figures",
+            "{dir}",
+            "--html",
+            "{dir}/curvature_before.png",
+        ],
+        "/curvature_before.png and --figures ",
+    );
     refused(
         &[
             "fit",

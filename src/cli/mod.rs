@@ -198,21 +198,29 @@ fn check_folder(option: &str, path: Option<&Path>) -> crate::Result<()> {
     }
 }
 
+/// An output of a command for [`check_paths`]: the option that names it (or what it is, for
+/// a positional argument or an implied path) and the path, when the command writes it.
+type Output<'a> = (&'a str, Option<&'a Path>);
+
 /// Checks a command's paths before any work: every output's folder exists, no output names
 /// an input (after resolving symlinks and `..`: surfkit never writes over its input), and
-/// no two outputs name the same file.
+/// no two outputs name the same file. `outputs` lists every file the command will write,
+/// implied ones too (`limit`'s default picture), each with the option that names it.
 ///
 /// # Errors
-/// [`crate::Error::InvalidInput`] naming the path and the problem.
-fn check_paths(inputs: &[Option<&Path>], outputs: &[Option<&Path>]) -> crate::Result<()> {
+/// [`crate::Error::InvalidInput`] naming the option, the path and the problem.
+fn check_paths(inputs: &[Option<&Path>], outputs: &[Output<'_>]) -> crate::Result<()> {
     let bad = |m: String| Err(crate::Error::InvalidInput(m));
     let inputs: Vec<(&Path, Option<PathBuf>)> = inputs
         .iter()
         .flatten()
         .map(|p| (*p, p.canonicalize().ok()))
         .collect();
-    let mut seen: Vec<(&Path, PathBuf)> = Vec::new();
-    for output in outputs.iter().flatten() {
+    let mut seen: Vec<(&str, &Path, PathBuf)> = Vec::new();
+    for &(option, output) in outputs {
+        let Some(output) = output else {
+            continue;
+        };
         let resolved = match output.canonicalize() {
             Ok(p) => p,
             Err(_) => {
@@ -222,7 +230,7 @@ fn check_paths(inputs: &[Option<&Path>], outputs: &[Option<&Path>]) -> crate::Re
                 };
                 let Ok(folder) = folder.canonicalize() else {
                     return bad(format!(
-                        "{}: the folder {} does not exist",
+                        "{option} {}: the folder {} does not exist",
                         output.display(),
                         folder.display()
                     ));
@@ -232,19 +240,20 @@ fn check_paths(inputs: &[Option<&Path>], outputs: &[Option<&Path>]) -> crate::Re
         };
         if let Some((input, _)) = inputs.iter().find(|(_, i)| i.as_ref() == Some(&resolved)) {
             return bad(format!(
-                "{}: refusing to write over the input file {}",
+                "{option} {}: refusing to write over the input file {}",
                 output.display(),
                 input.display()
             ));
         }
-        if let Some((other, _)) = seen.iter().find(|(_, r)| *r == resolved) {
+        if let Some((other_option, other, _)) = seen.iter().find(|(_, _, r)| *r == resolved) {
             return bad(format!(
-                "{} and {} name the same file: each output needs its own path",
+                "{other_option} {} and {option} {} name the same file: each output needs its \
+                 own path",
                 other.display(),
                 output.display()
             ));
         }
-        seen.push((output, resolved));
+        seen.push((option, output, resolved));
     }
     Ok(())
 }
