@@ -608,6 +608,21 @@ fn messages_name_the_file_the_option_and_the_real_problem() {
             1,
             "--out ".to_string() + &p(&a_file) + ": is a file; give a folder",
         ),
+        (
+            vec!["demo".into(), "--out".into(), p(&a_file.join("sub"))],
+            1,
+            "--out ".to_string() + &p(&a_file.join("sub")) + ": cannot create this folder",
+        ),
+        (
+            vec!["paper".into(), "kp2004-example2".into(), "--figures".into(), p(&a_file)],
+            1,
+            "--figures ".to_string() + &p(&a_file) + ": is a file; give a folder",
+        ),
+        (
+            vec!["paper".into(), "kp2022-table1".into(), "--figures".into(), "/proc/nonexistent".into()],
+            1,
+            "--figures /proc/nonexistent: cannot create this folder: No such file".into(),
+        ),
     ] {
         let run = surfkit().args(&args).output().unwrap();
         assert_eq!(run.status.code(), Some(status), "{args:?}: {}", stderr(&run));
@@ -615,6 +630,21 @@ fn messages_name_the_file_the_option_and_the_real_problem() {
         assert!(!out.exists(), "{args:?} wrote {}", out.display());
     }
     assert_eq!(std::fs::read_to_string(&a_file).unwrap(), "not a folder");
+    // A missing folder is tried up front and removed again: a command that fails later
+    // leaves no empty folders behind.
+    let figures = dir.path().join("a/b/c");
+    let run = surfkit()
+        .args(["paper", "kp2022-table1", "--seeds", "0", "--figures"])
+        .arg(&figures)
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(1), "{}", stderr(&run));
+    assert!(
+        stderr(&run).contains("needs at least one seed"),
+        "{}",
+        stderr(&run)
+    );
+    assert!(!dir.path().join("a").exists(), "the probe left a/ behind");
 }
 
 /// Makes a node at `path` with `mknod` (`c 1 7`: /dev/full's numbers); false, with a note on

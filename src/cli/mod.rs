@@ -184,17 +184,37 @@ impl Command {
 }
 
 /// Checks, before any work, that a folder option (`--figures`, `demo --out`) names a folder
-/// or nothing yet, not a file.
+/// or one that can be created, not a file: a missing folder is created and removed again
+/// (with any missing parents), so one the system refuses (`/proc/x`, `a_file/x`) is refused
+/// here and a command that fails later leaves nothing behind.
 ///
 /// # Errors
 /// [`crate::Error::InvalidInput`] naming the option and the path.
 fn check_folder(option: &str, path: Option<&Path>) -> crate::Result<()> {
-    match path {
-        Some(p) if p.exists() && !p.is_dir() => Err(crate::Error::InvalidInput(format!(
-            "{option} {}: is a file; give a folder (it is created if missing)",
-            p.display()
-        ))),
-        _ => Ok(()),
+    let Some(path) = path else {
+        return Ok(());
+    };
+    let refuse = |why: String| {
+        Err(crate::Error::InvalidInput(format!(
+            "{option} {}: {why}",
+            path.display()
+        )))
+    };
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => Ok(()),
+        Ok(_) => refuse("is a file; give a folder (it is created if missing)".into()),
+        Err(_) => {
+            // Deepest first, so that each is empty when it is removed.
+            let missing: Vec<&Path> = path
+                .ancestors()
+                .take_while(|a| !a.as_os_str().is_empty() && a.symlink_metadata().is_err())
+                .collect();
+            let created = std::fs::create_dir_all(path);
+            for folder in &missing {
+                let _ = std::fs::remove_dir(folder);
+            }
+            created.or_else(|e| refuse(format!("cannot create this folder: {e}")))
+        }
     }
 }
 
