@@ -1,8 +1,9 @@
 //! The command line under a hostile environment and hostile input (generated here, not
 //! fixture files): a reader that closes the pipe, a full disk, outputs that name inputs or
-//! each other or a missing folder, and text files as real-world writers produce them (BOM,
-//! CR, CR LF) or binary garbage named .obj. Each case asserts the exit status, the message
-//! (file and problem), that no output file is left behind and that inputs are unmodified.
+//! each other or a missing folder, outputs that are FIFOs or devices (mknod: root only), and
+//! text files as real-world writers produce them (BOM, CR, CR LF) or binary garbage named
+//! .obj. Each case asserts the exit status, the message (file and problem), that no output
+//! file is left behind and that inputs are unmodified.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -166,6 +167,38 @@ fn no_output_may_name_an_input_another_output_or_a_missing_folder() {
     refused(
         &["limit", "{in}", "-o", "{dir}/x.ply", "--png", "{dir}/x.ply"],
         "name the same file",
+    );
+    // limit's picture, when --png is not given, is the output's name with .png.
+    for message in [
+        "--png (by default the output's name with .png) ",
+        "/l4.png and --html ",
+        "/l4.png name the same file",
+    ] {
+        refused(
+            &[
+                "limit",
+                "{in}",
+                "-o",
+                "{dir}/l4.ply",
+                "--html",
+                "{dir}/l4.png",
+            ],
+            message,
+        );
+    }
+    // fair's pictures in an existing --figures folder.
+    refused(
+        &[
+            "fair",
+            "{in}",
+            "-o",
+            "{dir}/o.obj",
+            "--figures",
+            "{dir}",
+            "--html",
+            "{dir}/curvature_before.png",
+        ],
+        "/curvature_before.png and --figures ",
     );
     refused(
         &[
@@ -575,6 +608,21 @@ fn messages_name_the_file_the_option_and_the_real_problem() {
             1,
             "--out ".to_string() + &p(&a_file) + ": is a file; give a folder",
         ),
+        (
+            vec!["demo".into(), "--out".into(), p(&a_file.join("sub"))],
+            1,
+            "--out ".to_string() + &p(&a_file.join("sub")) + ": cannot create this folder",
+        ),
+        (
+            vec!["paper".into(), "kp2004-example2".into(), "--figures".into(), p(&a_file)],
+            1,
+            "--figures ".to_string() + &p(&a_file) + ": is a file; give a folder",
+        ),
+        (
+            vec!["paper".into(), "kp2022-table1".into(), "--figures".into(), "/proc/nonexistent".into()],
+            1,
+            "--figures /proc/nonexistent: cannot create this folder: No such file".into(),
+        ),
     ] {
         let run = surfkit().args(&args).output().unwrap();
         assert_eq!(run.status.code(), Some(status), "{args:?}: {}", stderr(&run));
@@ -582,4 +630,179 @@ fn messages_name_the_file_the_option_and_the_real_problem() {
         assert!(!out.exists(), "{args:?} wrote {}", out.display());
     }
     assert_eq!(std::fs::read_to_string(&a_file).unwrap(), "not a folder");
+    // A missing folder is tried up front and removed again: a command that fails later
+    // leaves no empty folders behind.
+    let figures = dir.path().join("a/b/c");
+    let run = surfkit()
+        .args(["paper", "kp2022-table1", "--seeds", "0", "--figures"])
+        .arg(&figures)
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(1), "{}", stderr(&run));
+    assert!(
+        stderr(&run).contains("needs at least one seed"),
+        "{}",
+        stderr(&run)
+    );
+    assert!(!dir.path().join("a").exists(), "the probe left a/ behind");
+}
+
+/// Makes a node at `path` with `mknod` (`c 1 7`: /dev/full's numbers); false, with a note on
+/// stderr, where that is not allowed (not root): the callers then skip, saying so.
+fn mknod_full(path: &Path) -> bool {
+    let made = Command::new("mknod")
+        .arg(path)
+        .args(["c", "1", "7"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !made {
+        eprintln!(
+            "SKIPPED: mknod {} c 1 7 failed (not root?): the device case is not tested",
+            path.display()
+        );
+    }
+    made
+}
+
+#[test]
+fn an_output_that_is_a_fifo_is_written_into_and_stays_a_fifo() {
+    use std::io::Read;
+    use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
+    let dir = tempfile::tempdir().unwrap();
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/meshes/catmark_torus.obj");
+    let fifo = dir.path().join("fifo_out.ply");
+    let made = Command::new("mkfifo").arg(&fifo).status().unwrap();
+    assert!(made.success(), "mkfifo {}", fifo.display());
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || {
+            let mut bytes = Vec::new();
+            std::fs::File::open(&fifo)
+                .unwrap()
+                .read_to_end(&mut bytes)
+                .unwrap();
+            bytes
+        })
+    };
+    let out = surfkit()
+        .arg("convert")
+        .arg(&input)
+        .arg(&fifo)
+        .arg("--ascii")
+        .output()
+        .unwrap();
+    // Should the command not have opened the FIFO, a writer that comes and goes at once
+    // ends the reader's wait (no reader left: the open fails, harmlessly).
+    let _ = std::fs::OpenOptions::new()
+        .write(true)
+        .custom_flags(libc::O_NONBLOCK)
+        .open(&fifo);
+    let bytes = reader.join().unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        bytes.starts_with(b"ply\nformat ascii 1.0\n"),
+        "{:?}",
+        String::from_utf8_lossy(&bytes[..bytes.len().min(80)])
+    );
+    let mesh = surfkit::mesh::io::read(&input).unwrap();
+    let text = String::from_utf8(bytes).unwrap();
+    assert!(text.contains(&format!("element vertex {}\n", mesh.vertex_count())));
+    let kind = std::fs::symlink_metadata(&fifo).unwrap().file_type();
+    assert!(kind.is_fifo(), "the FIFO was replaced: {kind:?}");
+    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert_eq!(names.len(), 1, "a temporary file was left behind");
+}
+
+#[test]
+fn an_output_linked_to_a_full_device_fails_and_the_device_stays() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = tempfile::tempdir().unwrap();
+    // Named .ply so that it can be an output itself as well as a link's target.
+    let device = dir.path().join("fulldev.ply");
+    if !mknod_full(&device) {
+        return;
+    }
+    let link = dir.path().join("fl.ply");
+    std::os::unix::fs::symlink(&device, &link).unwrap();
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/meshes/catmark_torus.obj");
+    for target in [&link, &device] {
+        let out = surfkit()
+            .arg("convert")
+            .arg(&input)
+            .arg(target)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+        let text = stderr(&out);
+        assert!(
+            text.contains(target.to_str().unwrap()) && text.contains("No space left on device"),
+            "{text}"
+        );
+        assert!(
+            std::fs::symlink_metadata(&device)
+                .unwrap()
+                .file_type()
+                .is_char_device(),
+            "the device was replaced"
+        );
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+    }
+    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert_eq!(names.len(), 2, "a temporary file was left behind");
+}
+
+#[test]
+fn an_output_linked_to_standard_output_writes_there() {
+    let dir = tempfile::tempdir().unwrap();
+    let link = dir.path().join("stdout.ply");
+    std::os::unix::fs::symlink("/dev/stdout", &link).unwrap();
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/meshes/catmark_torus.obj");
+    // Standard output is a pipe here: /dev/stdout resolves to it only through /proc.
+    let out = surfkit()
+        .arg("convert")
+        .arg(&input)
+        .arg(&link)
+        .arg("--ascii")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(out.stdout.starts_with(b"ply\nformat ascii 1.0\n"));
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}
+
+#[test]
+fn an_output_linked_to_a_regular_file_in_another_folder_replaces_that_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let (links, files) = (dir.path().join("links"), dir.path().join("files"));
+    std::fs::create_dir(&links).unwrap();
+    std::fs::create_dir(&files).unwrap();
+    let target = files.join("out.ply");
+    std::fs::write(&target, b"old").unwrap();
+    let link = links.join("out.ply");
+    std::os::unix::fs::symlink("../files/out.ply", &link).unwrap();
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/meshes/catmark_torus.obj");
+    let out = surfkit()
+        .arg("convert")
+        .arg(&input)
+        .arg(&link)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    let kind = std::fs::symlink_metadata(&link).unwrap().file_type();
+    assert!(kind.is_symlink(), "the link became {kind:?}");
+    assert_eq!(
+        std::fs::read_link(&link).unwrap(),
+        Path::new("../files/out.ply")
+    );
+    assert!(std::fs::read(&target).unwrap().starts_with(b"ply"));
+    assert!(std::fs::symlink_metadata(&target).unwrap().is_file());
+    assert_eq!(std::fs::read_dir(&links).unwrap().count(), 1);
+    assert_eq!(std::fs::read_dir(&files).unwrap().count(), 1);
 }

@@ -23,7 +23,7 @@ pub struct ConvertArgs {
 }
 
 pub fn run(args: &ConvertArgs) -> crate::Result<ExitCode> {
-    super::check_paths(&[Some(&args.input)], &[Some(&args.output)])?;
+    super::check_paths(&[Some(&args.input)], &[("OUTPUT", Some(&args.output))])?;
     let mesh = read_with(
         &args.input,
         &ReadOptions {

@@ -200,7 +200,10 @@ pub fn run(args: &EatArgs) -> Result<ExitCode> {
     let path = &args.meshes[0];
     super::check_paths(
         &[Some(path), args.reference.as_deref()],
-        &[args.mark.as_deref(), args.html.as_deref()],
+        &[
+            ("--mark", args.mark.as_deref()),
+            ("--html", args.html.as_deref()),
+        ],
     )?;
     let fail_on = fail_kinds(&args.fail_on)?;
     let expected = expected_chis(args)?;

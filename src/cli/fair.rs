@@ -272,14 +272,7 @@ pub(super) fn write_results(
     }
     if let Some(dir) = figures {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        for (name, title, mesh) in [
-            ("curvature_before.png", "before fairing", &before_samples),
-            (
-                "curvature_after.png",
-                "after fairing (same colour scale)",
-                &after_samples,
-            ),
-        ] {
+        for ((name, title), mesh) in FIGURES.into_iter().zip([&before_samples, &after_samples]) {
             let path = dir.join(name);
             let options = RenderOptions {
                 range: Some(range),
@@ -294,6 +287,12 @@ pub(super) fn write_results(
     }
     Ok(written)
 }
+
+/// The pictures `--figures` writes in its folder (before, after) and their titles.
+const FIGURES: [(&str, &str); 2] = [
+    ("curvature_before.png", "before fairing"),
+    ("curvature_after.png", "after fairing (same colour scale)"),
+];
 
 /// A progress bar on standard error towards the gradient tolerance: its position is
 /// log(|g|/|g0|) / log(tolerance); hidden unless `show` and stderr is a terminal.
@@ -513,15 +512,20 @@ fn coarse_start_line(stage: &CoarseStartReport) -> String {
 /// not at the gradient's round-off floor (which is as far as any method gets).
 pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
     super::check_folder("--figures", args.figures.as_deref())?;
-    super::check_paths(
-        &[Some(&args.input), args.fixed.as_deref()],
-        &[
-            Some(&args.output),
-            args.samples.as_deref(),
-            args.html.as_deref(),
-            args.bezier.as_deref(),
-        ],
-    )?;
+    // The pictures in --figures' folder are outputs too (a missing folder is created
+    // empty: nothing else can be in it).
+    let pictures: Vec<PathBuf> = match &args.figures {
+        Some(dir) if dir.is_dir() => FIGURES.iter().map(|(name, _)| dir.join(name)).collect(),
+        _ => Vec::new(),
+    };
+    let mut outputs = vec![
+        ("--output", Some(args.output.as_path())),
+        ("--samples", args.samples.as_deref()),
+        ("--html", args.html.as_deref()),
+        ("--bezier", args.bezier.as_deref()),
+    ];
+    outputs.extend(pictures.iter().map(|p| ("--figures", Some(p.as_path()))));
+    super::check_paths(&[Some(&args.input), args.fixed.as_deref()], &outputs)?;
     if args.bezier.is_some() && args.surface != SurfaceArg::G2 {
         return Err(Error::InvalidInput(
             "--bezier writes the G² surface's patches; it needs --surface g2".into(),

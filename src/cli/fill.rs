@@ -243,9 +243,9 @@ pub fn run(args: &FillArgs) -> Result<()> {
     super::check_paths(
         &[Some(&a.input), args.shape_points.as_deref()],
         &[
-            a.output.as_deref(),
-            a.coefficients.as_deref(),
-            a.html.as_deref(),
+            ("--output", a.output.as_deref()),
+            ("--coefficients", a.coefficients.as_deref()),
+            ("--html", a.html.as_deref()),
         ],
     )?;
     let hole = if args.hole_from_data {

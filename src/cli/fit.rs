@@ -22,9 +22,9 @@ pub fn run(args: &FitArgs) -> Result<()> {
     super::check_paths(
         &[Some(&a.input)],
         &[
-            a.output.as_deref(),
-            a.coefficients.as_deref(),
-            a.html.as_deref(),
+            ("--output", a.output.as_deref()),
+            ("--coefficients", a.coefficients.as_deref()),
+            ("--html", a.html.as_deref()),
         ],
     )?;
     let setup = super::fill::setup(&args.spline, HoleSource::None, FillVariant::Paper)?;

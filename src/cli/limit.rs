@@ -68,12 +68,22 @@ fn auto_samples(ptex_faces: usize) -> u32 {
 }
 
 pub fn run(args: &LimitArgs, memory: MemoryBudget) -> crate::Result<()> {
+    // The picture is always written: to --png, or next to the output.
+    let png = args
+        .png
+        .clone()
+        .unwrap_or_else(|| args.output.with_extension("png"));
+    let png_option = if args.png.is_some() {
+        "--png"
+    } else {
+        "--png (by default the output's name with .png)"
+    };
     super::check_paths(
         &[Some(&args.input)],
         &[
-            Some(&args.output),
-            args.png.as_deref(),
-            args.html.as_deref(),
+            ("--output", Some(&args.output)),
+            (png_option, Some(&png)),
+            ("--html", args.html.as_deref()),
         ],
     )?;
     let mesh = read(&args.input)?;
@@ -128,10 +138,6 @@ pub fn run(args: &LimitArgs, memory: MemoryBudget) -> crate::Result<()> {
     )?;
     let samples = &sampled.mesh;
     write(&args.output, samples, &WriteOptions::default())?;
-    let png = args
-        .png
-        .clone()
-        .unwrap_or_else(|| args.output.with_extension("png"));
     let options = crate::report::RenderOptions {
         title: Some(format!("limit surface of {}", args.input.display())),
         quantity: Some("mean curvature H".to_string()),

@@ -184,35 +184,63 @@ impl Command {
 }
 
 /// Checks, before any work, that a folder option (`--figures`, `demo --out`) names a folder
-/// or nothing yet, not a file.
+/// or one that can be created, not a file: a missing folder is created and removed again
+/// (with any missing parents), so one the system refuses (`/proc/x`, `a_file/x`) is refused
+/// here and a command that fails later leaves nothing behind.
 ///
 /// # Errors
 /// [`crate::Error::InvalidInput`] naming the option and the path.
 fn check_folder(option: &str, path: Option<&Path>) -> crate::Result<()> {
-    match path {
-        Some(p) if p.exists() && !p.is_dir() => Err(crate::Error::InvalidInput(format!(
-            "{option} {}: is a file; give a folder (it is created if missing)",
-            p.display()
-        ))),
-        _ => Ok(()),
+    let Some(path) = path else {
+        return Ok(());
+    };
+    let refuse = |why: String| {
+        Err(crate::Error::InvalidInput(format!(
+            "{option} {}: {why}",
+            path.display()
+        )))
+    };
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => Ok(()),
+        Ok(_) => refuse("is a file; give a folder (it is created if missing)".into()),
+        Err(_) => {
+            // Deepest first, so that each is empty when it is removed.
+            let missing: Vec<&Path> = path
+                .ancestors()
+                .take_while(|a| !a.as_os_str().is_empty() && a.symlink_metadata().is_err())
+                .collect();
+            let created = std::fs::create_dir_all(path);
+            for folder in &missing {
+                let _ = std::fs::remove_dir(folder);
+            }
+            created.or_else(|e| refuse(format!("cannot create this folder: {e}")))
+        }
     }
 }
 
+/// An output of a command for [`check_paths`]: the option that names it (or what it is, for
+/// a positional argument or an implied path) and the path, when the command writes it.
+type Output<'a> = (&'a str, Option<&'a Path>);
+
 /// Checks a command's paths before any work: every output's folder exists, no output names
 /// an input (after resolving symlinks and `..`: surfkit never writes over its input), and
-/// no two outputs name the same file.
+/// no two outputs name the same file. `outputs` lists every file the command will write,
+/// implied ones too (`limit`'s default picture), each with the option that names it.
 ///
 /// # Errors
-/// [`crate::Error::InvalidInput`] naming the path and the problem.
-fn check_paths(inputs: &[Option<&Path>], outputs: &[Option<&Path>]) -> crate::Result<()> {
+/// [`crate::Error::InvalidInput`] naming the option, the path and the problem.
+fn check_paths(inputs: &[Option<&Path>], outputs: &[Output<'_>]) -> crate::Result<()> {
     let bad = |m: String| Err(crate::Error::InvalidInput(m));
     let inputs: Vec<(&Path, Option<PathBuf>)> = inputs
         .iter()
         .flatten()
         .map(|p| (*p, p.canonicalize().ok()))
         .collect();
-    let mut seen: Vec<(&Path, PathBuf)> = Vec::new();
-    for output in outputs.iter().flatten() {
+    let mut seen: Vec<(&str, &Path, PathBuf)> = Vec::new();
+    for &(option, output) in outputs {
+        let Some(output) = output else {
+            continue;
+        };
         let resolved = match output.canonicalize() {
             Ok(p) => p,
             Err(_) => {
@@ -222,7 +250,7 @@ fn check_paths(inputs: &[Option<&Path>], outputs: &[Option<&Path>]) -> crate::Re
                 };
                 let Ok(folder) = folder.canonicalize() else {
                     return bad(format!(
-                        "{}: the folder {} does not exist",
+                        "{option} {}: the folder {} does not exist",
                         output.display(),
                         folder.display()
                     ));
@@ -232,19 +260,20 @@ fn check_paths(inputs: &[Option<&Path>], outputs: &[Option<&Path>]) -> crate::Re
         };
         if let Some((input, _)) = inputs.iter().find(|(_, i)| i.as_ref() == Some(&resolved)) {
             return bad(format!(
-                "{}: refusing to write over the input file {}",
+                "{option} {}: refusing to write over the input file {}",
                 output.display(),
                 input.display()
             ));
         }
-        if let Some((other, _)) = seen.iter().find(|(_, r)| *r == resolved) {
+        if let Some((other_option, other, _)) = seen.iter().find(|(_, _, r)| *r == resolved) {
             return bad(format!(
-                "{} and {} name the same file: each output needs its own path",
+                "{other_option} {} and {option} {} name the same file: each output needs its \
+                 own path",
                 other.display(),
                 output.display()
             ));
         }
-        seen.push((output, resolved));
+        seen.push((option, output, resolved));
     }
     Ok(())
 }

@@ -62,8 +62,10 @@ fn json<T: serde::Serialize>(rows: &[T]) -> crate::Result<()> {
 
 /// Runs the reproduction and prints it.
 ///
-/// Errors: those of the reproduction functions (invalid seeds, solver failures).
+/// Errors: a `--figures` that is a file or cannot be created (before any work), those of
+/// the reproduction functions (invalid seeds, solver failures).
 pub fn run(args: &PaperArgs) -> crate::Result<()> {
+    super::check_folder("--figures", Some(&args.figures))?;
     match args.name {
         PaperName::Kp2022Table1 => {
             let variant = match args.variant {

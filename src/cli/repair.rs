@@ -229,7 +229,10 @@ fn render(
 pub fn run(args: &RepairArgs) -> Result<ExitCode> {
     super::check_paths(
         &[Some(&args.input)],
-        &[Some(&args.output), args.mark.as_deref()],
+        &[
+            ("OUTPUT", Some(&args.output)),
+            ("--mark", args.mark.as_deref()),
+        ],
     )?;
     if args.weld_tolerance.is_nan() || args.weld_tolerance < 0.0 {
         return Err(Error::InvalidInput(format!(

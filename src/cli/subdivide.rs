@@ -87,7 +87,7 @@ pub struct SubdivideArgs {
 
 /// The memory budget is the process's (`--max-memory`), checked by `refine_uniform`.
 pub fn run(args: &SubdivideArgs) -> crate::Result<()> {
-    super::check_paths(&[Some(&args.input)], &[Some(&args.output)])?;
+    super::check_paths(&[Some(&args.input)], &[("--output", Some(&args.output))])?;
     let mesh = read(&args.input)?;
     let (creases, corners, creasing) = super::sharp_args::sharp_features(&mesh, &args.sharp)?;
     let options = SubdivOptions {

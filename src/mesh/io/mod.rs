@@ -3,7 +3,8 @@
 //! Readers keep polygons as written (no triangulation, no welding, unreferenced vertices
 //! kept), so that counts such as V, E and χ describe the file. Writers are atomic: the data
 //! goes to a temporary file in the target's folder which is renamed over the target only
-//! once complete, so a failed write never leaves a half-written file behind.
+//! once complete, so a failed write never leaves a half-written file behind. A target
+//! that is a pipe or a device (`-o /dev/stdout`, a FIFO) is written in place instead.
 
 mod atomic;
 mod face_check;
