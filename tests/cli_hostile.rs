@@ -403,6 +403,13 @@ fn absurd_sizes_are_refused_before_any_work_with_the_option_named() {
             "at most 4000000",
         ),
         (
+            // All the levels are sized before the first (refined one at a time, the 20 were
+            // refused after 20 s, at the level that passed the budget, as "1 levels").
+            vec!["gen", "tubes", "--refine", "20", "-o", out_arg],
+            1,
+            "20 levels of refinement",
+        ),
+        (
             vec!["fit", csv_arg, "--cells", "1000000,1000000"],
             1,
             "cells are supported",

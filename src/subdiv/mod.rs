@@ -18,6 +18,7 @@ mod patches;
 mod sample;
 mod topology;
 mod uniform;
+pub(crate) use uniform::check_memory as check_refinement_memory;
 
 pub use bspline::{cubic_basis, eval_patch, Derivatives};
 pub use curvature::{curvature, normal, Curvature};

@@ -27,7 +27,7 @@ pub fn refined_face_count(mesh: &PolygonMesh, levels: u32) -> u64 {
 
 /// Refuses `levels` of `mesh` where the last level's quads would pass `memory` at
 /// [`BYTES_PER_REFINED_FACE`] each, naming the most levels that fit.
-fn check_memory(mesh: &PolygonMesh, levels: u32, memory: MemoryBudget) -> Result<()> {
+pub(crate) fn check_memory(mesh: &PolygonMesh, levels: u32, memory: MemoryBudget) -> Result<()> {
     let fits =
         |l: u32| refined_face_count(mesh, l).saturating_mul(BYTES_PER_REFINED_FACE) <= memory.get();
     if fits(levels) {

@@ -24,6 +24,10 @@ use crate::subdiv::{refine_uniform, SubdivOptions};
 /// [`Error::InvalidInput`] when a level leaves no face (the mesh is only one ring wide);
 /// errors of [`refine_uniform`].
 pub fn refine_surface(mesh: &PolygonMesh, levels: u32) -> Result<PolygonMesh> {
+    // All the levels at once, before the first: refined one at a time, a request far
+    // beyond the budget was refused only at the level that passed it, after the others.
+    // (An upper bound: each level drops its boundary ring.)
+    crate::subdiv::check_refinement_memory(mesh, levels, crate::limits::MemoryBudget::default())?;
     let mut current = mesh.clone();
     for level in 1..=levels {
         let refined = refine_uniform(&current, 1, &SubdivOptions::default())?;
