@@ -583,3 +583,46 @@ fn messages_name_the_file_the_option_and_the_real_problem() {
     }
     assert_eq!(std::fs::read_to_string(&a_file).unwrap(), "not a folder");
 }
+
+/// Huge but finite coordinates: the flaw's position is finite, and the measures that are
+/// beyond f64 (a perimeter near 2.4e308, an area near 1e616) are `Infinity` in text and
+/// JSON alike — never `null`, which reads as "not measured".
+#[test]
+fn huge_coordinates_give_a_finite_position_and_explicitly_infinite_measures() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("huge.obj");
+    std::fs::write(
+        &mesh,
+        "v 1e308 1e308 1e308\nv -1e308 0 0\nv 0 1e308 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let out = surfkit()
+        .args(["eat", "--json"])
+        .arg(&mesh)
+        .output()
+        .unwrap();
+    let json = String::from_utf8_lossy(&out.stdout);
+    let report: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let flaw = &report["report"]["flaws"][0];
+    // An isolated facet: its border is a hole, with the facet in `faces`.
+    assert_eq!(flaw["kind"], "hole", "{json}");
+    let position: Vec<f64> = flaw["position"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let expected = [0.0, 1e308 / 3.0 * 2.0, 1e308 / 3.0];
+    for (p, e) in position.iter().zip(expected) {
+        assert!((p - e).abs() <= 1e-15 * e.abs(), "{position:?}");
+    }
+    assert_eq!(flaw["shape"]["perimeter"], "Infinity", "{json}");
+    assert_eq!(flaw["shape"]["area"], "Infinity", "{json}");
+    let text = surfkit().arg("eat").arg(&mesh).output().unwrap();
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.contains("hole at (0.000000, 6.666667e307, 3.333333e307)")
+            && text.contains("perimeter Infinity"),
+        "{text}"
+    );
+}

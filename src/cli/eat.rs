@@ -12,8 +12,8 @@ use crate::mesh::io::{read_with, write, ReadOptions, WriteOptions};
 use crate::mesh::PolygonMesh;
 use crate::report::html::{eat_page, write_html};
 use crate::topology::{
-    mark_flaws, scan, stage_ends, test_points, EatOptions, EatReport, FlawKind, LocatorOptions,
-    StageSource, TargetTopology,
+    mark_flaws, scan, show_measure, stage_ends, test_points, EatOptions, EatReport, FlawKind,
+    LocatorOptions, StageSource, TargetTopology,
 };
 
 /// Exit status when the mesh fails the test.
@@ -358,11 +358,11 @@ pub fn render(name: &str, report: &EatReport, show: usize) -> String {
             let p = f.position;
             let _ = writeln!(
                 out,
-                "  {} at ({:.6}, {:.6}, {:.6}): {}\n    fix{}: {}",
+                "  {} at ({}, {}, {}): {}\n    fix{}: {}",
                 f.kind.name(),
-                p[0],
-                p[1],
-                p[2],
+                show_measure(p[0]),
+                show_measure(p[1]),
+                show_measure(p[2]),
                 f.description,
                 match f.fix_verified {
                     Some(true) => " (checked by applying it)",
