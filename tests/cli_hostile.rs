@@ -626,3 +626,55 @@ fn huge_coordinates_give_a_finite_position_and_explicitly_infinite_measures() {
         "{text}"
     );
 }
+
+/// Numeric options outside their range are refused while parsing the arguments (status 2,
+/// the option named), before any file is read.
+#[test]
+fn weld_tolerance_and_newton_after_decrease_must_be_in_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("t.obj");
+    std::fs::write(&mesh, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let out_path = dir.path().join("out.obj");
+    for bad in ["inf", "-inf", "nan", "-1", "1e999"] {
+        for command in ["eat", "repair"] {
+            let mut run = surfkit();
+            run.arg(command)
+                .arg(&mesh)
+                .arg(format!("--weld-tolerance={bad}"));
+            if command == "repair" {
+                run.arg(&out_path);
+            }
+            let out = run.output().unwrap();
+            assert_eq!(
+                out.status.code(),
+                Some(2),
+                "{command} --weld-tolerance {bad}"
+            );
+            assert!(
+                stderr(&out).contains("--weld-tolerance")
+                    && stderr(&out).contains("must be a finite number ≥ 0"),
+                "{}",
+                stderr(&out)
+            );
+            assert!(!out_path.exists());
+        }
+    }
+    for bad in ["nan", "inf", "-0.1", "1.5"] {
+        let out = surfkit()
+            .arg("fair")
+            .arg(&mesh)
+            .arg("--output")
+            .arg(&out_path)
+            .arg(format!("--newton-after-decrease={bad}"))
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "--newton-after-decrease {bad}");
+        assert!(
+            stderr(&out).contains("--newton-after-decrease")
+                && stderr(&out).contains("must lie between 0 and 1"),
+            "{}",
+            stderr(&out)
+        );
+        assert!(!out_path.exists());
+    }
+}

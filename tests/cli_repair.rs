@@ -214,3 +214,39 @@ fn a_weld_undone_by_a_split_is_not_verified() {
         "{stdout}"
     );
 }
+
+/// A weld tolerance as large as the mesh welds it into a point and deletes every facet:
+/// no flaw is left, yet that is no verified repair.
+#[test]
+fn a_repair_that_deletes_every_facet_is_not_verified() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("stamp.obj");
+    write(&input, &stamp(&[]), &Default::default()).unwrap();
+    let output = dir.path().join("gone.obj");
+    for json in [false, true] {
+        let mut run = surfkit();
+        run.args(["repair", "--weld-tolerance", "1e6"])
+            .arg(&input)
+            .arg(&output);
+        if json {
+            run.arg("--json");
+        }
+        let run = run.output().unwrap();
+        let stdout = String::from_utf8_lossy(&run.stdout);
+        assert_eq!(run.status.code(), Some(3), "{stdout}");
+        if json {
+            let report: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+            assert_eq!(report["verified"], false);
+            assert_eq!(report["deleted_every_facet"], true);
+            assert_eq!(report["after"]["counts"]["facets"], 0);
+        } else {
+            assert!(
+                stdout.contains(
+                    "NOT verified: the repair deleted every facet of the input — is \
+                     --weld-tolerance 1000000 as large as the mesh?"
+                ),
+                "{stdout}"
+            );
+        }
+    }
+}
