@@ -813,3 +813,98 @@ fn an_output_linked_to_a_regular_file_in_another_folder_replaces_that_file() {
     assert_eq!(std::fs::read_dir(&links).unwrap().count(), 1);
     assert_eq!(std::fs::read_dir(&files).unwrap().count(), 1);
 }
+
+/// Huge but finite coordinates: the flaw's position is finite, and the measures that are
+/// beyond f64 (a perimeter near 2.4e308, an area near 1e616) are `Infinity` in text and
+/// JSON alike — never `null`, which reads as "not measured".
+#[test]
+fn huge_coordinates_give_a_finite_position_and_explicitly_infinite_measures() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("huge.obj");
+    std::fs::write(
+        &mesh,
+        "v 1e308 1e308 1e308\nv -1e308 0 0\nv 0 1e308 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let out = surfkit()
+        .args(["eat", "--json"])
+        .arg(&mesh)
+        .output()
+        .unwrap();
+    let json = String::from_utf8_lossy(&out.stdout);
+    let report: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let flaw = &report["report"]["flaws"][0];
+    // An isolated facet: its border is a hole, with the facet in `faces`.
+    assert_eq!(flaw["kind"], "hole", "{json}");
+    let position: Vec<f64> = flaw["position"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let expected = [0.0, 1e308 / 3.0 * 2.0, 1e308 / 3.0];
+    for (p, e) in position.iter().zip(expected) {
+        assert!((p - e).abs() <= 1e-15 * e.abs(), "{position:?}");
+    }
+    assert_eq!(flaw["shape"]["perimeter"], "Infinity", "{json}");
+    assert_eq!(flaw["shape"]["area"], "Infinity", "{json}");
+    let text = surfkit().arg("eat").arg(&mesh).output().unwrap();
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.contains("hole at (0.000000, 6.666667e307, 3.333333e307)")
+            && text.contains("perimeter Infinity"),
+        "{text}"
+    );
+}
+
+/// Numeric options outside their range are refused while parsing the arguments (status 2,
+/// the option named), before any file is read.
+#[test]
+fn weld_tolerance_and_newton_after_decrease_must_be_in_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("t.obj");
+    std::fs::write(&mesh, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let out_path = dir.path().join("out.obj");
+    for bad in ["inf", "-inf", "nan", "-1", "1e999"] {
+        for command in ["eat", "repair"] {
+            let mut run = surfkit();
+            run.arg(command)
+                .arg(&mesh)
+                .arg(format!("--weld-tolerance={bad}"));
+            if command == "repair" {
+                run.arg(&out_path);
+            }
+            let out = run.output().unwrap();
+            assert_eq!(
+                out.status.code(),
+                Some(2),
+                "{command} --weld-tolerance {bad}"
+            );
+            assert!(
+                stderr(&out).contains("--weld-tolerance")
+                    && stderr(&out).contains("must be a finite number ≥ 0"),
+                "{}",
+                stderr(&out)
+            );
+            assert!(!out_path.exists());
+        }
+    }
+    for bad in ["nan", "inf", "-0.1", "1.5"] {
+        let out = surfkit()
+            .arg("fair")
+            .arg(&mesh)
+            .arg("--output")
+            .arg(&out_path)
+            .arg(format!("--newton-after-decrease={bad}"))
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "--newton-after-decrease {bad}");
+        assert!(
+            stderr(&out).contains("--newton-after-decrease")
+                && stderr(&out).contains("must lie between 0 and 1"),
+            "{}",
+            stderr(&out)
+        );
+        assert!(!out_path.exists());
+    }
+}

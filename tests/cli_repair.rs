@@ -172,3 +172,81 @@ fn a_sound_mesh_comes_back_with_the_same_facets() {
     assert_eq!(a.positions_flat(), b.positions_flat());
     assert!(String::from_utf8_lossy(&run.stdout).contains("0 changes"));
 }
+
+/// rabbit.obj's parts touch: vertex 643 lies 0.037 from vertex 452 of another part. Welded
+/// at 0.05 they make a vertex of two fans, which the non-manifold repair splits again: the
+/// coincidence the weld was asked to remove is back, and the repair must say so.
+#[test]
+fn a_weld_undone_by_a_split_is_not_verified() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/meshes/rabbit.obj");
+    let output = dir.path().join("o.obj");
+    let run = surfkit()
+        .args(["repair", "--json", "--weld-tolerance", "0.05"])
+        .arg(&input)
+        .arg(&output)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert_eq!(run.status.code(), Some(3), "{stdout}");
+    let report: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(report["verified"], false);
+    assert_eq!(report["after"]["flaw_counts"]["coincident_vertices"], 1);
+    let left = report["remaining_flaws"].as_array().unwrap();
+    assert_eq!(left.len(), 1, "{stdout}");
+    assert_eq!(left[0]["kind"], "coincident_vertices");
+    let text = surfkit()
+        .args(["repair", "--weld-tolerance", "0.05"])
+        .arg(&input)
+        .arg(&output)
+        .output()
+        .unwrap();
+    assert_eq!(text.status.code(), Some(3));
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.contains("NOT verified: 1 flaws of the repaired kinds left")
+            && text.contains("coincident_vertices: vertex 623 is at the place of vertex 432"),
+        "{text}"
+    );
+    // The weld says how far it moved the facets.
+    assert!(
+        stdout.contains("vertex 643 welded into vertex 452, 3.7"),
+        "{stdout}"
+    );
+}
+
+/// A weld tolerance as large as the mesh welds it into a point and deletes every facet:
+/// no flaw is left, yet that is no verified repair.
+#[test]
+fn a_repair_that_deletes_every_facet_is_not_verified() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("stamp.obj");
+    write(&input, &stamp(&[]), &Default::default()).unwrap();
+    let output = dir.path().join("gone.obj");
+    for json in [false, true] {
+        let mut run = surfkit();
+        run.args(["repair", "--weld-tolerance", "1e6"])
+            .arg(&input)
+            .arg(&output);
+        if json {
+            run.arg("--json");
+        }
+        let run = run.output().unwrap();
+        let stdout = String::from_utf8_lossy(&run.stdout);
+        assert_eq!(run.status.code(), Some(3), "{stdout}");
+        if json {
+            let report: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+            assert_eq!(report["verified"], false);
+            assert_eq!(report["deleted_every_facet"], true);
+            assert_eq!(report["after"]["counts"]["facets"], 0);
+        } else {
+            assert!(
+                stdout.contains(
+                    "NOT verified: the repair deleted every facet of the input — is \
+                     --weld-tolerance 1000000 as large as the mesh?"
+                ),
+                "{stdout}"
+            );
+        }
+    }
+}

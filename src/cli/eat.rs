@@ -12,8 +12,8 @@ use crate::mesh::io::{read_with, write, ReadOptions, WriteOptions};
 use crate::mesh::PolygonMesh;
 use crate::report::html::{eat_page, write_html};
 use crate::topology::{
-    mark_flaws, scan, stage_ends, test_points, EatOptions, EatReport, FlawKind, LocatorOptions,
-    StageSource, TargetTopology,
+    mark_flaws, scan, show_measure, stage_ends, test_points, EatOptions, EatReport, FlawKind,
+    LocatorOptions, StageSource, TargetTopology,
 };
 
 /// Exit status when the mesh fails the test.
@@ -49,7 +49,7 @@ pub struct EatArgs {
     #[arg(long)]
     pub reference: Option<PathBuf>,
     /// Distance under which distinct vertices count as coincident (default: same coordinates).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = super::non_negative_finite)]
     pub weld_tolerance: f64,
     /// A boundary vertex within this fraction of a boundary edge's length of that edge (and
     /// joined to the edge's other side) is a T-vertex on it: a crack. In (0, 1).
@@ -181,12 +181,6 @@ pub(super) fn scan_file(
 }
 
 pub fn run(args: &EatArgs) -> Result<ExitCode> {
-    if args.weld_tolerance.is_nan() || args.weld_tolerance < 0.0 {
-        return Err(Error::InvalidInput(format!(
-            "--weld-tolerance {} must be 0 or more",
-            args.weld_tolerance
-        )));
-    }
     if args.many() {
         if args.html.is_some() {
             return Err(Error::InvalidInput(
@@ -361,11 +355,11 @@ pub fn render(name: &str, report: &EatReport, show: usize) -> String {
             let p = f.position;
             let _ = writeln!(
                 out,
-                "  {} at ({:.6}, {:.6}, {:.6}): {}\n    fix{}: {}",
+                "  {} at ({}, {}, {}): {}\n    fix{}: {}",
                 f.kind.name(),
-                p[0],
-                p[1],
-                p[2],
+                show_measure(p[0]),
+                show_measure(p[1]),
+                show_measure(p[2]),
                 f.description,
                 match f.fix_verified {
                     Some(true) => " (checked by applying it)",

@@ -168,8 +168,9 @@ pub struct FairArgs {
     /// After a Levenberg–Marquardt step that lowered F by more than this fraction of it,
     /// search the trajectory again from the Hessian's Gauss–Newton part alone, without the
     /// exact Hessian and its Newton trial (1 with --no-newton-backoff: always try Newton, as
-    /// the paper).
-    #[arg(long, default_value_t = NEWTON_AFTER_DECREASE)]
+    /// the paper). In [0, 1].
+    #[arg(long, default_value_t = NEWTON_AFTER_DECREASE,
+          value_parser = super::closed_unit_interval)]
     pub newton_after_decrease: f64,
     /// Try Newton after every Levenberg–Marquardt step that lowered F by little, even right
     /// after Newton trials that failed (default: after a failed trial skip 1, then 2, 4, …

@@ -99,6 +99,31 @@ fn open_unit_interval(text: &str) -> Result<f64, String> {
     }
 }
 
+/// clap parser of a number in [0, 1], e.g. a fraction of F.
+fn closed_unit_interval(text: &str) -> Result<f64, String> {
+    let x: f64 = text
+        .parse()
+        .map_err(|_| format!("{text:?} is not a number"))?;
+    if (0.0..=1.0).contains(&x) {
+        Ok(x)
+    } else {
+        Err(format!("{text} must lie between 0 and 1"))
+    }
+}
+
+/// clap parser of a finite number ≥ 0, e.g. a distance. An infinite weld tolerance would
+/// make every vertex coincident with every other (a repair would weld the mesh away).
+fn non_negative_finite(text: &str) -> Result<f64, String> {
+    let x: f64 = text
+        .parse()
+        .map_err(|_| format!("{text:?} is not a number"))?;
+    if x >= 0.0 && x.is_finite() {
+        Ok(x)
+    } else {
+        Err(format!("{text} must be a finite number ≥ 0"))
+    }
+}
+
 /// clap parser of a positive finite number.
 fn positive_finite(text: &str) -> Result<f64, String> {
     let x: f64 = text

@@ -2,7 +2,8 @@
 //! result and says whether it is verified.
 //!
 //! Exit status: 0 when the result is verified (no flaw of the repaired kinds left, and the
-//! target χ met at every test point when one is given), 3 when it is not, 1 on an error.
+//! target χ met at every test point when one is given), 3 when it is not (also when the
+//! repair deleted every facet of the input), 1 on an error.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -45,7 +46,7 @@ pub struct RepairArgs {
     #[arg(long, value_enum, default_value_t = FillWith::Spline, requires = "fill_holes")]
     pub fill_with: FillWith,
     /// Distance under which distinct vertices are welded (default: same coordinates).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = super::non_negative_finite)]
     pub weld_tolerance: f64,
     /// A boundary vertex within this fraction of a boundary edge's length of it is a
     /// T-vertex (a crack) to split the edge at. In (0, 1).
@@ -162,6 +163,7 @@ fn render(
     after: &EatReport,
     repaired: &Repaired,
     left: &[&Flaw],
+    emptied: bool,
 ) -> String {
     let mut out = String::new();
     let _ = writeln!(
@@ -203,7 +205,20 @@ fn render(
             "note: texture coordinates were dropped (facets changed)"
         );
     }
-    if left.is_empty() && after.verified() {
+    if emptied {
+        let hint = if args.weld_tolerance > 0.0 {
+            format!(
+                " — is --weld-tolerance {} as large as the mesh?",
+                args.weld_tolerance
+            )
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            out,
+            "NOT verified: the repair deleted every facet of the input{hint}"
+        );
+    } else if left.is_empty() && after.verified() {
         let _ = writeln!(
             out,
             "verified: the EAT of the result has none of the repaired flaws"
@@ -234,12 +249,6 @@ pub fn run(args: &RepairArgs) -> Result<ExitCode> {
             ("--mark", args.mark.as_deref()),
         ],
     )?;
-    if args.weld_tolerance.is_nan() || args.weld_tolerance < 0.0 {
-        return Err(Error::InvalidInput(format!(
-            "--weld-tolerance {} must be 0 or more",
-            args.weld_tolerance
-        )));
-    }
     let options = RepairOptions {
         kinds: kinds(args)?,
         max_hole_edges: args.fill_holes.unwrap_or(0),
@@ -273,12 +282,16 @@ pub fn run(args: &RepairArgs) -> Result<ExitCode> {
         write(mark, &marked, &WriteOptions::default())?;
     }
     let left = repaired.remaining(&after, &options);
-    let verified = left.is_empty() && after.verified();
+    // No flaw is left on no facets at all: a repair that deleted every facet (a weld
+    // tolerance as large as the mesh welds it into one point) is no verified result.
+    let emptied = mesh.face_count() > 0 && repaired.mesh.face_count() == 0;
+    let verified = left.is_empty() && after.verified() && !emptied;
     if args.json {
         super::print_json(&serde_json::json!({
             "input": args.input,
             "output": args.output,
             "verified": verified,
+            "deleted_every_facet": emptied,
             "before": { "counts": before.counts, "flaw_counts": counts_by_name(&before) },
             "after": {
                 "counts": after.counts,
@@ -291,7 +304,10 @@ pub fn run(args: &RepairArgs) -> Result<ExitCode> {
             "marked_mesh": args.mark,
         }))?;
     } else {
-        print!("{}", render(args, &before, &after, &repaired, &left));
+        print!(
+            "{}",
+            render(args, &before, &after, &repaired, &left, emptied)
+        );
     }
     Ok(if verified {
         ExitCode::SUCCESS

@@ -433,6 +433,12 @@ pub fn optimize_observed(
             options.regularization
         )));
     }
+    let after_decrease = options.newton.newton_after_decrease;
+    if !(0.0..=1.0).contains(&after_decrease) {
+        return Err(Error::InvalidInput(format!(
+            "newton_after_decrease {after_decrease} must lie in [0, 1] (a fraction of F)"
+        )));
+    }
     let (prepared, refinements) = prepare_with_fixed(mesh, options)?;
     let topo = MeshTopology::new(&prepared)?;
     let fixed = fixed_vertices(&topo, options.boundary_rings, &options.fixed)?;

@@ -35,8 +35,22 @@ pub fn weld(mesh: &mut Editable, flaws: &[Flaw], changes: &mut Vec<Change>) {
             Action::WeldVertex,
             Vec::new(),
             vec![v, u],
-            format!("vertex {v} welded into vertex {u} at the same place"),
+            welded_where(mesh, v, u),
         ));
+    }
+}
+
+/// The description of welding `v` into `u`: at the same place, or how far apart (a weld
+/// within a tolerance moves the facets of `v`).
+fn welded_where(mesh: &Editable, v: u32, u: u32) -> String {
+    let (p, q) = (mesh.positions[v as usize], mesh.positions[u as usize]);
+    if p == q {
+        format!("vertex {v} welded into vertex {u} at the same place")
+    } else {
+        format!(
+            "vertex {v} welded into vertex {u}, {:.3e} away (within the weld tolerance)",
+            crate::mesh::vector::distance(p, q)
+        )
     }
 }
 

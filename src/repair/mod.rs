@@ -84,15 +84,23 @@ pub struct Repaired {
 impl Repaired {
     /// The flaws of `after` (the EAT of the repaired mesh) that the repair should have
     /// removed: those of the repaired kinds (holes up to the size asked for, not the
-    /// border of an isolated facet), except the
-    /// coincidence of a split vertex with its copies, which is the repair itself.
+    /// border of an isolated facet), except the coincidence of a split vertex with its
+    /// copies, which is the repair itself — unless a weld made that vertex: then the split
+    /// undid the weld (two parts touching at a point, welded into a vertex of two fans,
+    /// come apart again), and the coincidence the weld was asked to remove is left.
     pub fn remaining<'a>(&self, after: &'a EatReport, options: &RepairOptions) -> Vec<&'a Flaw> {
+        let welded: std::collections::HashSet<u32> = self
+            .changes
+            .iter()
+            .filter(|c| c.action == Action::WeldVertex)
+            .filter_map(|c| c.vertices_after.last().copied().flatten())
+            .collect();
         let split: std::collections::HashSet<(u32, u32)> = self
             .changes
             .iter()
             .filter(|c| c.action == Action::SplitVertex)
             .filter_map(|c| match c.vertices_after[..] {
-                [Some(v), Some(copy)] => Some((v.min(copy), v.max(copy))),
+                [Some(v), Some(copy)] if !welded.contains(&v) => Some((v.min(copy), v.max(copy))),
                 _ => None,
             })
             .collect();

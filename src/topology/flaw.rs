@@ -77,12 +77,16 @@ impl FlawKind {
     }
 }
 
-/// Measurements of a boundary loop.
+/// Measurements of a boundary loop. Finite coordinates give finite measures wherever the
+/// value fits in an f64; beyond that a measure is +∞ (see `locator::loop_shape`), written
+/// `"Infinity"` in JSON (where a bare number cannot say it) and `Infinity` in text.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct LoopShape {
     pub edges: usize,
+    #[serde(serialize_with = "measure_json")]
     pub perimeter: f64,
     /// Norm of the loop's vector area (½‖Σ pᵢ × pᵢ₊₁‖): the area of a planar loop.
+    #[serde(serialize_with = "measure_json")]
     pub area: f64,
     /// Area below 1 % of the squared median edge length, or perimeter below half of it:
     /// too small to see at ordinary zoom (the paper's §4.1–4.2 flaws).
@@ -111,4 +115,28 @@ pub struct Flaw {
     /// not checked (`surfkit::repair::check_fixes` sets it) or the fix is a judgment.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fix_verified: Option<bool>,
+}
+
+/// A loop measure or a coordinate in text: 6 decimals; from 1e15 on 6 significant
+/// decimals with an exponent (not 300 digits); `Infinity` where it passes f64's range.
+pub fn show_measure(x: f64) -> String {
+    if x.is_finite() && x.abs() < 1e15 {
+        format!("{x:.6}")
+    } else if x.is_finite() {
+        format!("{x:.6e}")
+    } else {
+        // Measures are non-negative; from finite coordinates the only non-finite one is +∞.
+        "Infinity".into()
+    }
+}
+
+/// A loop measure in JSON: a number, or the string `"Infinity"` (serde_json would write
+/// `null`, which reads as "not measured"). JavaScript's `Number`, Python's `float` and
+/// Rust's `f64::from_str` all read that string back as +∞.
+fn measure_json<S: serde::Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+    if x.is_finite() {
+        s.serialize_f64(*x)
+    } else {
+        s.serialize_str(&show_measure(*x))
+    }
 }

@@ -1,13 +1,13 @@
 //! The flaw locator: every flaw of the registered facets, classified and placed.
 //! (Beyond the paper, which only tells that χ is wrong since the last verified point.)
 
-use crate::mesh::vector::distance;
+use crate::mesh::vector::{distance, mean};
 use std::hash::BuildHasher;
 
 use foldhash::{HashMap as FxHashMap, HashMapExt};
 
 use super::cracks::stitch_cracks;
-use super::flaw::{Flaw, FlawKind, LoopShape};
+use super::flaw::{show_measure, Flaw, FlawKind, LoopShape};
 use super::registry::EatRegistry;
 use super::structure::Structure;
 
@@ -118,54 +118,95 @@ pub fn boundary_walks(registry: &EatRegistry, structure: &Structure) -> Vec<Vec<
 /// Median edge length of the registered edges (0 for none).
 pub fn median_edge_length(registry: &EatRegistry, positions: &[[f64; 3]]) -> f64 {
     // f32 halves the memory of this 1-per-edge array; a median needs no more precision.
+    // Lengths are kept over a power of two near the largest coordinate (exact), so that
+    // lengths beyond f32's range (3.4e38) or below it (1e-45) keep their value.
+    let largest = positions
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    let scale = if largest > 0.0 && largest.is_finite() {
+        power_of_two_below(largest)
+    } else {
+        1.0
+    };
     let mut lengths: Vec<f32> = registry
         .edges()
         .iter()
-        .map(|e| distance(positions[e.a as usize], positions[e.b as usize]) as f32)
+        .map(|e| (distance(positions[e.a as usize], positions[e.b as usize]) / scale) as f32)
         .collect();
     if lengths.is_empty() {
         return 0.0;
     }
     let mid = lengths.len() / 2;
-    f64::from(*lengths.select_nth_unstable_by(mid, f32::total_cmp).1)
-}
-
-fn centroid(points: impl Iterator<Item = [f64; 3]>) -> [f64; 3] {
-    let (mut c, mut n) = ([0.0; 3], 0.0);
-    for p in points {
-        for k in 0..3 {
-            c[k] += p[k];
-        }
-        n += 1.0;
-    }
-    if n > 0.0 {
-        c.map(|x| x / n)
-    } else {
-        c
-    }
+    f64::from(*lengths.select_nth_unstable_by(mid, f32::total_cmp).1) * scale
 }
 
 /// Perimeter, vector area and tininess of a closed polygon.
+///
+/// Both measures are finite whenever they are representable, also for coordinates near
+/// ±f64::MAX: lengths come from [`distance`], and a vector area whose cross products
+/// overflow is summed again from the first point (half-differences, which cannot
+/// overflow, scaled by a power of two near the largest: exact). A measure beyond f64's
+/// range (a triangle with 1e308 coordinates has an area near 1e616) is +∞, which reports
+/// show as such (JSON: `"Infinity"`), never as a silent `null`; the flaw's topology and
+/// position stay exact. Elsewhere the area is ½‖Σ pᵢ × pᵢ₊₁‖ as always, bit for bit.
 pub fn loop_shape(cycle: &[u32], positions: &[[f64; 3]], median_edge: f64) -> LoopShape {
     let n = cycle.len();
-    let mut perimeter = 0.0;
-    let mut cross = [0.0; 3];
-    for k in 0..n {
-        let (p, q) = (
-            positions[cycle[k] as usize],
-            positions[cycle[(k + 1) % n] as usize],
-        );
-        perimeter += distance(p, q);
-        cross[0] += p[1] * q[2] - p[2] * q[1];
-        cross[1] += p[2] * q[0] - p[0] * q[2];
-        cross[2] += p[0] * q[1] - p[1] * q[0];
+    let point = |k: usize| positions[cycle[k % n] as usize];
+    let perimeter = (0..n)
+        .map(|k| distance(point(k), point(k + 1)))
+        .sum::<f64>();
+    let vector_area = |at: &dyn Fn(usize) -> [f64; 3]| {
+        let mut cross = [0.0; 3];
+        for k in 0..n {
+            let (p, q) = (at(k), at(k + 1));
+            cross[0] += p[1] * q[2] - p[2] * q[1];
+            cross[1] += p[2] * q[0] - p[0] * q[2];
+            cross[2] += p[0] * q[1] - p[1] * q[0];
+        }
+        0.5 * (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]).sqrt()
+    };
+    let mut area = vector_area(&point);
+    if !area.is_finite() && n > 0 {
+        let origin = point(0);
+        let half = |k: usize| {
+            let p = point(k);
+            [
+                0.5 * p[0] - 0.5 * origin[0],
+                0.5 * p[1] - 0.5 * origin[1],
+                0.5 * p[2] - 0.5 * origin[2],
+            ]
+        };
+        let largest = (0..n).flat_map(half).fold(0.0f64, |m, x| m.max(x.abs()));
+        if largest > 0.0 && largest.is_finite() {
+            // Scaled half-differences lie in (-2, 2): their cross products cannot overflow.
+            let scale = power_of_two_below(largest);
+            let scaled = |k: usize| half(k).map(|x| x / scale);
+            // Halving took a factor 4 off the area; (a·s)·s, not a·s²: s² alone may
+            // overflow where the area does not.
+            area = 4.0 * vector_area(&scaled) * scale * scale;
+        }
     }
-    let area = 0.5 * (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]).sqrt();
     LoopShape {
         edges: n,
         perimeter,
         area,
-        tiny: area < 0.01 * median_edge * median_edge || perimeter < 0.5 * median_edge,
+        tiny: below_squared(area, 0.01, median_edge) || perimeter < 0.5 * median_edge,
+    }
+}
+
+/// The power of two at or below `x` (finite, positive): dividing by it is exact.
+fn power_of_two_below(x: f64) -> f64 {
+    2f64.powi(x.log2().floor() as i32)
+}
+
+/// `a < c·m²`, also where m² overflows (then as a / m < c·m).
+fn below_squared(a: f64, c: f64, m: f64) -> bool {
+    let bound = c * m * m;
+    if bound.is_finite() || m <= 0.0 {
+        a < bound
+    } else {
+        a / m < c * m
     }
 }
 
@@ -182,7 +223,7 @@ fn loop_flaw(
 ) -> Flaw {
     let shape = loop_shape(&cycle, positions, median_edge);
     let n = cycle.len();
-    let position = centroid(cycle.iter().map(|&v| positions[v as usize]));
+    let position = mean(cycle.iter().map(|&v| positions[v as usize]));
     if let (None, Some(edge)) = (own_facet, joined_at) {
         // Filling such a loop would put one more facet on the edge: the separation is
         // the fix, and its own flaw (the non-manifold edge) carries it, checked.
@@ -190,8 +231,8 @@ fn loop_flaw(
         return Flaw {
             kind: FlawKind::Hole,
             description: format!(
-                "boundary loop of {n} edges through both ends of non-manifold edge {{{a}, {b}}}, perimeter {:.6}: the borders of facets that meet on that edge, joined by the walk — not a hole to fill",
-                shape.perimeter
+                "boundary loop of {n} edges through both ends of non-manifold edge {{{a}, {b}}}, perimeter {}: the borders of facets that meet on that edge, joined by the walk — not a hole to fill",
+                show_measure(shape.perimeter)
             ),
             vertices: cycle,
             faces: edge.faces.clone(),
@@ -208,8 +249,8 @@ fn loop_flaw(
         return Flaw {
             kind: FlawKind::Hole,
             description: format!(
-                "boundary loop of {n} edges around facet {f} alone (an isolated facet, or one hanging on a non-manifold edge), perimeter {:.6}",
-                shape.perimeter
+                "boundary loop of {n} edges around facet {f} alone (an isolated facet, or one hanging on a non-manifold edge), perimeter {}",
+                show_measure(shape.perimeter)
             ),
             vertices: cycle,
             faces: vec![f],
@@ -241,9 +282,9 @@ fn loop_flaw(
     Flaw {
         kind,
         description: format!(
-            "boundary loop of {n} edges, perimeter {:.6}, area {:.6}{}",
-            shape.perimeter,
-            shape.area,
+            "boundary loop of {n} edges, perimeter {}, area {}{}",
+            show_measure(shape.perimeter),
+            show_measure(shape.area),
             if shape.tiny {
                 " (tiny: easy to miss on screen)"
             } else {
@@ -378,7 +419,7 @@ pub fn locate_with(
         let (a, b, ts) = (j.a, j.b, &j.t_vertices);
         flaws.push(Flaw {
             kind: FlawKind::Crack,
-            position: centroid(ts.iter().map(|&v| pos(v))),
+            position: mean(ts.iter().map(|&v| pos(v))),
             shape: None,
             component: registry.edge_slot(a, b).map(|e| {
                 structure.facet_component[structure.first_side(e as usize).facet as usize]
@@ -449,7 +490,7 @@ pub fn locate_with(
             flaws.push(Flaw {
                 kind: FlawKind::NonManifoldEdge,
                 vertices: vec![item.a, item.b],
-                position: centroid([pos(item.a), pos(item.b)].into_iter()),
+                position: mean([pos(item.a), pos(item.b)].into_iter()),
                 shape: None,
                 component: Some(structure.facet_component[first.facet as usize]),
                 description: format!("edge {{{}, {}}} has {} facet sides (ec = {})", item.a, item.b, item.ec, item.ec),
@@ -465,7 +506,7 @@ pub fn locate_with(
             flaws.push(Flaw {
                 kind: FlawKind::InconsistentOrientation,
                 vertices: vec![item.a, item.b],
-                position: centroid([pos(item.a), pos(item.b)].into_iter()),
+                position: mean([pos(item.a), pos(item.b)].into_iter()),
                 shape: None,
                 component: Some(structure.facet_component[first.facet as usize]),
                 description: format!(
@@ -512,7 +553,7 @@ pub fn locate_with(
                 kind: FlawKind::DuplicatedFacet,
                 vertices: face.to_vec(),
                 faces: vec![facet_id(f as u32), facet_id(first)],
-                position: centroid(face.iter().map(|&v| pos(v))),
+                position: mean(face.iter().map(|&v| pos(v))),
                 shape: None,
                 component: Some(structure.facet_component[f]),
                 description: format!(
@@ -530,7 +571,7 @@ pub fn locate_with(
                 kind: FlawKind::DegenerateFacet,
                 vertices: face.to_vec(),
                 faces: vec![facet_id(f as u32)],
-                position: centroid(face.iter().map(|&v| pos(v))),
+                position: mean(face.iter().map(|&v| pos(v))),
                 shape: None,
                 component: Some(structure.facet_component[f]),
                 description: format!(
@@ -636,4 +677,58 @@ pub fn coincident_pairs(
         }
     }
     pairs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn triangle(points: [[f64; 3]; 3]) -> LoopShape {
+        loop_shape(&[0, 1, 2], &points, 1.0)
+    }
+
+    #[test]
+    fn loop_measures_are_plain_where_nothing_overflows() {
+        let shape = triangle([[0.0, 0.0, 0.0], [3.0, 0.0, 0.0], [0.0, 4.0, 0.0]]);
+        assert_eq!((shape.perimeter, shape.area), (12.0, 6.0));
+    }
+
+    #[test]
+    fn loop_measures_are_finite_wherever_representable() {
+        // The cross products' squares overflow (1e616), the area (5e307) does not.
+        let shape = triangle([[0.0; 3], [1e154, 0.0, 0.0], [0.0, 1e154, 0.0]]);
+        assert!((shape.area / 5e307 - 1.0).abs() < 1e-14, "{shape:?}");
+        assert!(shape.perimeter.is_finite());
+        // Far from the origin: every term p × q overflows (1e320), the small triangle's
+        // area (½ 1e300) does not, and is measured from its first corner without
+        // cancellation.
+        let (o, h) = (1e160, 1e150);
+        let shape = triangle([[o, o, o], [o + h, o, o], [o, o + h, o]]);
+        let side = (o + h) - o; // h as rounded next to o (exact: Sterbenz)
+        assert!(
+            (shape.area / (0.5 * side * side) - 1.0).abs() < 1e-14,
+            "{shape:?}"
+        );
+    }
+
+    #[test]
+    fn loop_measures_beyond_f64_are_infinite_not_nan() {
+        // surfkit eat huge.obj: its centroid is finite, its measures are not representable.
+        let points = [[1e308, 1e308, 1e308], [-1e308, 0.0, 0.0], [0.0, 1e308, 0.0]];
+        let shape = triangle(points);
+        assert_eq!(shape.perimeter, f64::INFINITY);
+        assert_eq!(shape.area, f64::INFINITY);
+        assert!(!shape.tiny);
+        let c = mean(points.iter().copied());
+        assert!(c.iter().all(|x| x.is_finite()), "{c:?}");
+    }
+
+    #[test]
+    fn tininess_holds_where_the_squared_median_overflows() {
+        // 0.01 · (1e200)² = 1e398 overflows; every finite area is below it.
+        assert!(below_squared(f64::MAX, 0.01, 1e200));
+        assert!(!below_squared(f64::INFINITY, 0.01, 1e200));
+        assert!(!below_squared(f64::MAX, 0.01, 1e150));
+        assert!(!below_squared(1.0, 0.01, 0.0));
+    }
 }

@@ -116,10 +116,18 @@ impl EatReport {
 /// at each test point (Liu et al. 2020 §3.4), then locates every flaw.
 ///
 /// # Errors
-/// [`Error::InvalidInput`] when the mesh breaks its invariants or test points are not in
-/// increasing order within the face count; [`Error::Ffi`] when OpenMesh fails.
+/// [`Error::InvalidInput`] when the mesh breaks its invariants, test points are not in
+/// increasing order within the face count, or the weld tolerance is not a finite number
+/// ≥ 0 (an infinite one makes every vertex coincident with every other); [`Error::Ffi`]
+/// when OpenMesh fails.
 pub fn scan(mesh: &PolygonMesh, options: &EatOptions) -> Result<EatReport> {
     mesh.validate()?;
+    let weld = options.locator.weld_tolerance;
+    if !(weld.is_finite() && weld >= 0.0) {
+        return Err(Error::InvalidInput(format!(
+            "weld tolerance {weld} must be a finite number ≥ 0"
+        )));
+    }
     let faces = mesh.face_count();
     if let Some(w) = options
         .test_points
