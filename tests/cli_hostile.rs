@@ -601,6 +601,12 @@ fn messages_name_the_file_the_option_and_the_real_problem() {
             "-1 must be positive and finite".into(),
         ),
         (
+            // A mistyped folder has no extension: what is wrong is that it is not there.
+            vec!["eat".into(), p(&dir.path().join("no_such_folder"))],
+            1,
+            "no_such_folder: No such file or directory".into(),
+        ),
+        (
             vec!["eat".into(), p(&mesh), "--every".into(), "0".into()],
             2,
             "'0' for '--every <EVERY>'".into(),

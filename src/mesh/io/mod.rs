@@ -101,6 +101,10 @@ pub fn read(path: &Path) -> Result<PolygonMesh> {
 
 /// Reads a mesh with explicit options (see [`read`]).
 pub fn read_with(path: &Path, options: &ReadOptions) -> Result<PolygonMesh> {
+    // A path that is not there is that, whatever its extension (a mistyped folder has none).
+    if let Err(e) = std::fs::metadata(path) {
+        return Err(Error::io(path, e));
+    }
     let format = Format::from_path(path)?;
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     parse(path, &bytes, format, options)
