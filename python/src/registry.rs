@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use surfkit::topology::ModelCompanion;
 
-use crate::errors::InvalidInput;
+use crate::errors::{to_py, InvalidInput};
 
 /// Vertex ids a registry takes when the caller names no count: the registry keeps one item
 /// per id up to the largest seen, so an id is a size claim (16.7 M ids, about 0.4 GB).
@@ -72,7 +72,10 @@ impl EatRegistry {
             }
             ids.push(v as u32);
         }
-        let r = self.companion.register_facet(&ids, input_id);
+        let r = self
+            .companion
+            .register_facet(&ids, input_id)
+            .map_err(to_py)?;
         let out = PyDict::new(py);
         out.set_item("facet", r.facet)?;
         out.set_item("fc", r.fc)?;
