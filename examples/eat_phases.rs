@@ -17,7 +17,7 @@ fn main() {
             mesh.face_indices.len(),
         );
         for (f, corners) in mesh.faces().enumerate() {
-            c.register(corners, f as u32);
+            c.register(corners, f as u32).unwrap();
         }
         println!("registry {:?}", t.elapsed());
         let t = Instant::now();

@@ -212,8 +212,8 @@ typedef struct SurfkitEatOptions {
   /*
    Test points: after `test_point_facets[i]` facets, χ must be `test_point_expected[i]`
    (`test_point_count` of each; a last test point at the whole mesh is added when the
-   last count is not the face count). With one expected value and no facet counts, the
-   whole mesh is the one test point.
+   last count is not the face count). With one expected value and no facet counts
+   (`test_point_facets` null), the whole mesh is the one test point.
    */
   const uintptr_t *test_point_facets;
   const int64_t *test_point_expected;
@@ -824,7 +824,10 @@ int surfkit_registry_set_vertex_count(struct SurfkitRegistry *registry, uint32_t
 /*
  Registers one facet (`corner_count` vertex ids, any arity ≥ 1); `input_id` is how the
  caller names it in reports (a face handle's index, say). `facet` (may be null) receives
- its position in the registry's Facet list.
+ its position in the registry's Facet list. The registry keeps an item per vertex id up to
+ the largest (20 bytes each): an id whose items would pass the memory limit
+ (`surfkit_set_max_memory`) is refused with `SURFKIT_RESOURCE_LIMIT`, naming the id and
+ the memory, and nothing is registered.
 
  # Safety
  `registry` must be a live handle; `corners` must hold `corner_count` ids.

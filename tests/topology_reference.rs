@@ -169,7 +169,7 @@ fn holes_are_the_loops_openmesh_walks_where_it_takes_every_facet() {
             mesh.face_indices.len(),
         );
         for (f, corners) in mesh.faces().enumerate() {
-            companion.register(corners, f as u32);
+            companion.register(corners, f as u32).unwrap();
         }
         let structure = Structure::of(companion.registry());
         let ours: BTreeSet<Vec<u32>> = boundary_walks(companion.registry(), &structure)

@@ -27,8 +27,8 @@ pub struct SurfkitEatOptions {
     pub crack_tolerance: f64,
     /// Test points: after `test_point_facets[i]` facets, χ must be `test_point_expected[i]`
     /// (`test_point_count` of each; a last test point at the whole mesh is added when the
-    /// last count is not the face count). With one expected value and no facet counts, the
-    /// whole mesh is the one test point.
+    /// last count is not the face count). With one expected value and no facet counts
+    /// (`test_point_facets` null), the whole mesh is the one test point.
     pub test_point_facets: *const usize,
     pub test_point_expected: *const i64,
     pub test_point_count: usize,
@@ -173,7 +173,12 @@ unsafe fn options_from(
             )));
         }
     }
-    let facets = slice(o.test_point_facets, o.test_point_count, "test_point_facets")?;
+    // One expected value with null facet counts is the documented whole-mesh test point.
+    let facets = if o.test_point_facets.is_null() && o.test_point_count == 1 {
+        &[]
+    } else {
+        slice(o.test_point_facets, o.test_point_count, "test_point_facets")?
+    };
     let expected = slice(
         o.test_point_expected,
         o.test_point_count,

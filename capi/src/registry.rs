@@ -84,7 +84,10 @@ pub unsafe extern "C" fn surfkit_registry_set_vertex_count(
 
 /// Registers one facet (`corner_count` vertex ids, any arity ≥ 1); `input_id` is how the
 /// caller names it in reports (a face handle's index, say). `facet` (may be null) receives
-/// its position in the registry's Facet list.
+/// its position in the registry's Facet list. The registry keeps an item per vertex id up to
+/// the largest (20 bytes each): an id whose items would pass the memory limit
+/// (`surfkit_set_max_memory`) is refused with `SURFKIT_RESOURCE_LIMIT`, naming the id and
+/// the memory, and nothing is registered.
 ///
 /// # Safety
 /// `registry` must be a live handle; `corners` must hold `corner_count` ids.
@@ -111,7 +114,7 @@ pub unsafe extern "C" fn surfkit_registry_add_facet(
                 r.vertex_limit
             )));
         }
-        let registered = r.companion.register(corners, input_id);
+        let registered = r.companion.register(corners, input_id)?;
         if let Some(facet) = facet.as_mut() {
             *facet = registered;
         }

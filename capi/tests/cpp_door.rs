@@ -201,7 +201,7 @@ fn stamp_script(flaws: &[StampFlaw]) -> (String, Option<(usize, Vec<u32>)>) {
             script.push_str(&format!(" {c}"));
         }
         script.push('\n');
-        reference.register(corners, f as u32);
+        reference.register(corners, f as u32).unwrap();
         let stage_ends = f + 1 == mesh.face_count() || groups.of_face[f + 1] != groups.of_face[f];
         if stage_ends {
             let chi = STAMP_STAGES[groups.of_face[f] as usize].1;

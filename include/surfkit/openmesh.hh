@@ -21,6 +21,7 @@
 #include <OpenMesh/Core/System/omstream.hh>
 #include <OpenMesh/Core/Utils/Property.hh>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <exception>
@@ -264,7 +265,11 @@ EatReport eat(const Mesh& mesh, const EatOptions& options = EatOptions{}) {
   if (!facets.empty() && facets.size() != expected.size())
     throw Error(SURFKIT_INVALID_INPUT, "surfkit::eat: a whole-mesh test point (facets = 0) "
                                        "cannot be mixed with facet-count test points");
-  o.test_point_facets = facets.data();
+  if (facets.empty() && expected.size() > 1)
+    throw Error(SURFKIT_INVALID_INPUT, "surfkit::eat: " + std::to_string(expected.size()) +
+                                           " whole-mesh test points (facets = 0): give one");
+  // No facet counts: a null pointer, which the C door reads as the whole mesh.
+  o.test_point_facets = facets.empty() ? nullptr : facets.data();
   o.test_point_expected = expected.data();
   o.test_point_count = facets.empty() ? expected.size() : facets.size();
   SurfkitEatReport* raw_ptr = nullptr;
@@ -306,7 +311,8 @@ template <class Mesh>
 class EatCompanion {
  public:
   /// A refused facet: its registry id, corners, and what OpenMesh said (its omerr
-  /// message, captured instead of printed).
+  /// message, captured instead of printed) or, for a facet not given to OpenMesh,
+  /// "degenerate: " and why.
   struct Refusal {
     uint32_t facet;
     std::vector<OpenMesh::VertexHandle> corners;
@@ -330,7 +336,9 @@ class EatCompanion {
   }
 
   /// Registers the facet, then adds it to the mesh; returns the new face handle, invalid
-  /// when OpenMesh refused the facet (see refusals()).
+  /// when OpenMesh refused the facet (see refusals()). A degenerate facet (fewer than 3
+  /// corners or a repeated vertex) is registered (the EAT counts it) but never given to
+  /// OpenMesh, whose add_face asserts on it: it is refused with the reason "degenerate".
   typename Mesh::FaceHandle add_face(const std::vector<typename Mesh::VertexHandle>& corners) {
     std::vector<uint32_t> ids;
     ids.reserve(corners.size());
@@ -344,6 +352,11 @@ class EatCompanion {
     uint32_t facet = 0;
     detail::check(surfkit_registry_add_facet(registry_.get(), ids.data(), ids.size(), next_, &facet));
     ++next_;
+    if (const char* why = degenerate(ids)) {
+      face_of_.push_back(typename Mesh::FaceHandle());
+      refusals_.push_back({facet, {corners.begin(), corners.end()}, std::string("degenerate: ") + why});
+      return typename Mesh::FaceHandle();
+    }
     // OpenMesh says why it refuses on omerr, which writes to std::cerr: captured by
     // swapping std::cerr's buffer for the call (mostream's connect/disconnect would leak
     // a target per call). Not for programs writing to std::cerr from another thread now.
@@ -381,10 +394,20 @@ class EatCompanion {
     return out;
   }
 
-  /// Facets OpenMesh refused (complex edge or vertex), in registration order.
+  /// Facets OpenMesh refused (complex edge or vertex) or that were not given to it
+  /// (degenerate), in registration order.
   const std::vector<Refusal>& refusals() const noexcept { return refusals_; }
 
  private:
+  /// Why a facet is degenerate (fewer than 3 corners, a repeated vertex), or null.
+  static const char* degenerate(const std::vector<uint32_t>& ids) {
+    if (ids.size() < 3) return "fewer than 3 corners";
+    std::vector<uint32_t> sorted(ids);
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return "a repeated vertex";
+    return nullptr;
+  }
+
   Mesh& mesh_;
   std::unique_ptr<SurfkitRegistry, detail::RegistryFree> registry_;
   std::vector<typename Mesh::FaceHandle> face_of_;

@@ -2,7 +2,7 @@
 //! the Rust message (which names the file, line or element).
 
 use pyo3::create_exception;
-use pyo3::exceptions::PyException;
+use pyo3::exceptions::{PyException, PyOverflowError};
 use pyo3::prelude::*;
 
 create_exception!(_surfkit, SurfkitError, PyException, "Any surfkit failure.");
@@ -54,4 +54,22 @@ pub fn to_py(e: surfkit::Error) -> PyErr {
         E::ResourceLimit { .. } | E::WorkLimit { .. } => ResourceLimit::new_err(message),
         E::Io { .. } | E::Ffi { .. } => SurfkitError::new_err(message),
     }
+}
+
+/// An integer argument from 0 to `max` (a count, a number of levels): PyO3's own
+/// `OverflowError` for a negative or oversized int names no argument, this `InvalidInput`
+/// names it. Other failures (not an int at all) stay PyO3's.
+pub fn natural(value: &Bound<'_, PyAny>, name: &str, max: u64) -> PyResult<u64> {
+    match value.extract::<u64>() {
+        Ok(n) if n <= max => Ok(n),
+        Err(e) if !e.is_instance_of::<PyOverflowError>(value.py()) => Err(e),
+        _ => Err(InvalidInput::new_err(format!(
+            "{name} {value} is out of range: it must be an integer from 0 to {max}"
+        ))),
+    }
+}
+
+/// [`natural`] for a `u32` argument.
+pub fn natural_u32(value: &Bound<'_, PyAny>, name: &str) -> PyResult<u32> {
+    natural(value, name, u64::from(u32::MAX)).map(|n| n as u32)
 }

@@ -10,7 +10,7 @@ use surfkit::fair::{
     optimize_observed, CoarseStart, FairMethod, FairOptions, Iteration, RepresentationOptions,
 };
 
-use crate::errors::{to_py, InvalidInput};
+use crate::errors::{natural, to_py, InvalidInput};
 use crate::mesh::Mesh;
 
 /// Optimizes `mesh` (GIL released between callbacks) and returns the optimized mesh and the
@@ -28,7 +28,7 @@ pub fn fair_json(
     boundary_rings: Option<u32>,
     max_refinements: Option<u32>,
     relative_gradient: Option<f64>,
-    max_iterations: Option<usize>,
+    max_iterations: Option<Bound<'_, PyAny>>,
     surface: Option<String>,
     isolation: Option<u32>,
     nodes: Option<usize>,
@@ -116,7 +116,7 @@ pub fn fair_json(
         options.newton.relative_gradient = r;
     }
     if let Some(n) = max_iterations {
-        options.newton.max_iterations = n;
+        options.newton.max_iterations = natural(&n, "max_iterations", usize::MAX as u64)? as usize;
     }
 
     let mut raised: Option<PyErr> = None;

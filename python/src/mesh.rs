@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
-use surfkit::mesh::io::{read, write, WriteOptions};
+use surfkit::mesh::io::{read_with, write, ReadOptions, WriteOptions};
 use surfkit::mesh::PolygonMesh;
 
 use crate::errors::{to_py, InvalidInput};
@@ -143,10 +143,14 @@ impl Mesh {
     }
 }
 
-/// Reads an OBJ, PLY or OFF file as surfkit's readers do (`InvalidInput` names the line or
-/// element of a malformed file).
+/// Reads an OBJ, PLY or OFF file as the CLI's `eat` and the C door do (`InvalidInput` names
+/// the line or element of a malformed file): degenerate faces (fewer than 3 corners, a
+/// repeated vertex) are kept, for `eat` to count them as flaws.
 #[pyfunction]
 pub fn read_mesh(py: Python<'_>, path: PathBuf) -> PyResult<Mesh> {
-    let mesh = py.detach(|| read(&path)).map_err(to_py)?;
+    let options = ReadOptions {
+        keep_degenerate: true,
+    };
+    let mesh = py.detach(|| read_with(&path, &options)).map_err(to_py)?;
     Ok(Mesh { mesh })
 }

@@ -2,21 +2,37 @@
 //! facets registered one by one as the script makes them, test points that compare χ so
 //! far with what the model should have, and the suspects of a failed test point.
 
+use std::sync::{Mutex, MutexGuard};
+
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use surfkit::topology::ModelCompanion;
 
-use crate::errors::InvalidInput;
+use crate::errors::{natural, to_py, InvalidInput, SurfkitError};
 
 /// Vertex ids a registry takes when the caller names no count: the registry keeps one item
 /// per id up to the largest seen, so an id is a size claim (16.7 M ids, about 0.4 GB).
 const DEFAULT_VERTEX_LIMIT: u64 = 1 << 24;
 
-/// The accompanying test of a model built facet by facet.
-#[pyclass(module = "surfkit._surfkit", unsendable)]
+/// The accompanying test of a model built facet by facet. Its state sits behind a lock so
+/// that a script may use and drop it on any thread (a thread pool's worker, say).
+#[pyclass(module = "surfkit._surfkit", frozen)]
 pub struct EatRegistry {
+    state: Mutex<State>,
+}
+
+struct State {
     companion: ModelCompanion,
     vertex_limit: u64,
+}
+
+impl EatRegistry {
+    /// The state, locked for one call (no Python code runs while it is held).
+    fn state(&self) -> PyResult<MutexGuard<'_, State>> {
+        self.state.lock().map_err(|_| {
+            SurfkitError::new_err("the registry is unusable: a call on it failed half-way")
+        })
+    }
 }
 
 #[pymethods]
@@ -25,22 +41,29 @@ impl EatRegistry {
     /// `vertex_count = n` as the model grows).
     #[new]
     #[pyo3(signature = (vertex_count=None))]
-    fn new(vertex_count: Option<u64>) -> PyResult<Self> {
+    fn new(vertex_count: Option<Bound<'_, PyAny>>) -> PyResult<Self> {
+        let count = match vertex_count {
+            Some(count) => vertex_limit(&count)?,
+            None => DEFAULT_VERTEX_LIMIT,
+        };
         Ok(EatRegistry {
-            companion: ModelCompanion::new(),
-            vertex_limit: checked_limit(vertex_count.unwrap_or(DEFAULT_VERTEX_LIMIT))?,
+            state: Mutex::new(State {
+                companion: ModelCompanion::new(),
+                vertex_limit: count,
+            }),
         })
     }
 
     /// The bound on vertex ids.
     #[getter]
-    fn vertex_count(&self) -> u64 {
-        self.vertex_limit
+    fn vertex_count(&self) -> PyResult<u64> {
+        Ok(self.state()?.vertex_limit)
     }
 
     #[setter]
-    fn set_vertex_count(&mut self, count: u64) -> PyResult<()> {
-        self.vertex_limit = checked_limit(count)?;
+    fn set_vertex_count(&self, count: &Bound<'_, PyAny>) -> PyResult<()> {
+        let count = vertex_limit(count)?;
+        self.state()?.vertex_limit = count;
         Ok(())
     }
 
@@ -49,30 +72,36 @@ impl EatRegistry {
     /// `vertex_slots` (vIDs) and `edge_slots` (eIDs).
     #[pyo3(signature = (corners, input_id=None))]
     fn add_facet<'py>(
-        &mut self,
+        &self,
         py: Python<'py>,
         corners: Vec<i64>,
         input_id: Option<u32>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let position = self.companion.registry().facet_count();
-        let input_id = input_id.unwrap_or(position as u32);
-        if corners.is_empty() {
-            return Err(InvalidInput::new_err(format!(
-                "facet {input_id} has no corners"
-            )));
-        }
-        let mut ids = Vec::with_capacity(corners.len());
-        for v in corners {
-            if v < 0 || v as u64 >= self.vertex_limit {
+        let r = {
+            let mut state = self.state()?;
+            let position = state.companion.registry().facet_count();
+            let input_id = input_id.unwrap_or(position as u32);
+            if corners.is_empty() {
                 return Err(InvalidInput::new_err(format!(
-                    "facet {input_id} refers to vertex {v}, but the registry is for vertex ids \
-                     0..{} (set vertex_count to raise it)",
-                    self.vertex_limit
+                    "facet {input_id} has no corners"
                 )));
             }
-            ids.push(v as u32);
-        }
-        let r = self.companion.register_facet(&ids, input_id);
+            let mut ids = Vec::with_capacity(corners.len());
+            for v in corners {
+                if v < 0 || v as u64 >= state.vertex_limit {
+                    return Err(InvalidInput::new_err(format!(
+                        "facet {input_id} refers to vertex {v}, but the registry is for vertex \
+                         ids 0..{} (set vertex_count to raise it)",
+                        state.vertex_limit
+                    )));
+                }
+                ids.push(v as u32);
+            }
+            state
+                .companion
+                .register_facet(&ids, input_id)
+                .map_err(to_py)?
+        };
         let out = PyDict::new(py);
         out.set_item("facet", r.facet)?;
         out.set_item("fc", r.fc)?;
@@ -83,23 +112,28 @@ impl EatRegistry {
 
     /// V, E, F and χ so far (EAT-SA), as JSON.
     fn statistics_json(&self) -> PyResult<String> {
-        json(&self.companion.statistics())
+        json(&self.state()?.companion.statistics())
     }
 
     /// A test point: χ so far against `expected_chi`, as JSON; on a mismatch the facets
     /// since the last verified point with their counters.
-    fn checkpoint_json(&mut self, expected_chi: i64) -> PyResult<String> {
-        json(&self.companion.checkpoint(expected_chi))
+    fn checkpoint_json(&self, expected_chi: i64) -> PyResult<String> {
+        json(&self.state()?.companion.checkpoint(expected_chi))
     }
 }
 
-fn checked_limit(count: u64) -> PyResult<u64> {
-    if count > u64::from(u32::MAX) {
-        return Err(InvalidInput::new_err(format!(
-            "vertex_count {count} is beyond 32-bit vertex ids"
-        )));
-    }
-    Ok(count)
+/// `vertex_count` as given: 0 ..= 2³² − 1 (ids are 32-bit), else `InvalidInput` naming it.
+fn vertex_limit(count: &Bound<'_, PyAny>) -> PyResult<u64> {
+    natural(count, "vertex_count", u64::from(u32::MAX)).map_err(|e| {
+        if e.is_instance_of::<InvalidInput>(count.py()) {
+            InvalidInput::new_err(format!(
+                "vertex_count {count} is out of range: vertex ids are 32-bit, give 0 to {}",
+                u32::MAX
+            ))
+        } else {
+            e
+        }
+    })
 }
 
 fn json<T: serde::Serialize>(value: &T) -> PyResult<String> {

@@ -9,7 +9,7 @@ use surfkit::subdiv::{
     PatchOptions, PatchSurface, SubdivOptions,
 };
 
-use crate::errors::{to_py, InvalidInput, TopologyError};
+use crate::errors::{natural_u32, to_py, InvalidInput, TopologyError};
 use crate::mesh::Mesh;
 
 /// The subdivision options from the Python arguments (names as `surfkit subdivide`).
@@ -81,12 +81,13 @@ pub fn subdiv_options(
 pub fn subdivide(
     py: Python<'_>,
     mesh: &Mesh,
-    levels: u32,
+    levels: &Bound<'_, PyAny>,
     boundary: &str,
     creases: Vec<(u32, u32, f32)>,
     corners: Vec<(u32, f32)>,
     creasing: &str,
 ) -> PyResult<Mesh> {
+    let levels = natural_u32(levels, "levels")?;
     let options = subdiv_options(boundary, creases, corners, creasing)?;
     let input = &mesh.mesh;
     let refined = py
@@ -97,7 +98,7 @@ pub fn subdivide(
 
 /// The limit surface of a control mesh as bicubic patches (OpenSubdiv's feature-adaptive
 /// table, end caps after `max_isolation` levels).
-#[pyclass(module = "surfkit._surfkit", unsendable)]
+#[pyclass(module = "surfkit._surfkit", frozen)]
 pub struct LimitSurface {
     surface: PatchSurface,
 }

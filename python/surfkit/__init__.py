@@ -180,7 +180,9 @@ class EatRegistry:
     ``checkpoint(expected_chi)`` compares χ so far with what the model should have: when it
     differs, ``since_last_verified`` lists the facets added since the last verified point
     with their counters — where to look. Vertex ids must stay below ``vertex_count``
-    (default 2²⁴; an id is a size claim, raise it as the model grows).
+    (default 2²⁴; an id is a size claim, raise it as the model grows); an id whose items
+    (20 bytes per id up to the largest) would pass ``max_memory()`` raises
+    ``ResourceLimit``. A registry may be used and dropped on any thread.
     """
 
     def __init__(self, vertex_count: int | None = None) -> None:
@@ -254,7 +256,7 @@ class LimitSurface:
 
     Points are (ptex face, u, v) with (u, v) in [0, 1]²: on an all-quad mesh the ptex face
     is the face id; an n-gon has n ptex faces, ``ptex_faces(face)`` gives (first, count).
-    Build it once to evaluate many points.
+    Build it once to evaluate many points, from any thread (``evaluate`` releases the GIL).
     """
 
     def __init__(
@@ -410,8 +412,8 @@ def set_max_memory(size: int | str | None) -> None:
     --max-memory`` and the C door's ``surfkit_set_max_memory``: bytes (at least 1 MiB), a
     size such as ``"512M"`` or ``"12G"`` (binary units), or None for the default, half of
     the machine's memory. Work whose planned size passes it (a fairing problem's solver, a
-    subdivision's levels) raises ``ResourceLimit``, naming its size and what fits, before
-    it allocates. Calls already running keep their limit."""
+    subdivision's levels, an ``EatRegistry``'s vertex ids) raises ``ResourceLimit``, naming
+    its size and what fits, before it allocates. Calls already running keep their limit."""
     _surfkit.set_max_memory(size)
 
 

@@ -168,3 +168,21 @@ def test_files_round_trip_and_bad_files_name_the_line(tmp_path: Path) -> None:
         surfkit.read_mesh(bad)
     with pytest.raises(surfkit.SurfkitError, match="missing.obj"):
         surfkit.read_mesh(tmp_path / "missing.obj")
+
+
+def test_degenerate_facets_are_read_and_counted_as_the_cli_counts(tmp_path: Path, cli: Path):
+    """read_mesh keeps a face that repeats a vertex (and one of 2 corners), as the CLI and
+    the C door read files: eat counts them as flaws instead of refusing the file."""
+    for name, faces in [("repeat.obj", "f 1 2 3\nf 1 2 1\n"), ("two.obj", "f 1 2 3\nf 3 4\n")]:
+        path = tmp_path / name
+        path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n" + faces)
+        got = surfkit.eat(surfkit.read_mesh(path))
+        out = subprocess.run(
+            [cli, "eat", path, "--json"], check=False, capture_output=True, text=True
+        )
+        assert out.returncode in (0, 3), out.stderr
+        expected = json.loads(out.stdout)["report"]
+        assert expected["counts"]["degenerate_facets"] == 1
+        assert got["report"]["counts"]["degenerate_facets"] == 1
+        assert got["report"] == expected
+        assert "degenerate_facet" in [f["kind"] for f in got["flaws"]]

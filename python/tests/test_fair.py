@@ -203,6 +203,9 @@ def test_bad_fair_options_are_refused(tubes: Path):
             surfkit.fair(mesh, regularization=bad)
     with pytest.raises(surfkit.InvalidInput, match='method "fast": use "auto"'):
         surfkit.fair(mesh, method="fast")
+    for bad in (-1, 2**64):
+        with pytest.raises(surfkit.InvalidInput, match=f"max_iterations {bad} is out of range"):
+            surfkit.fair(mesh, max_iterations=bad)
     # 359 vertices: no coarser level for the multilevel method.
     with pytest.raises(surfkit.InvalidInput, match="needs a coarser level"):
         surfkit.fair(mesh, method="multilevel", max_refinements=0)

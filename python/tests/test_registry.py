@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 import subprocess
+import sys
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
@@ -62,3 +64,46 @@ def test_vertex_ids_are_bounded():
     assert registry.add_facet([0, 1, 4])["facet"] == 0
     with pytest.raises(surfkit.InvalidInput, match="32-bit"):
         surfkit.EatRegistry(vertex_count=2**33)
+    for bad in (-5, 2**64):
+        with pytest.raises(surfkit.InvalidInput, match=f"vertex_count {bad} is out of range"):
+            surfkit.EatRegistry(bad)
+        with pytest.raises(surfkit.InvalidInput, match=f"vertex_count {bad} is out of range"):
+            registry.vertex_count = bad
+
+
+def test_a_far_vertex_id_is_refused_within_the_memory_limit():
+    """The registry keeps an item per vertex id up to the largest (20 bytes each): an id
+    near 2³² (80 GiB of items) raises ResourceLimit naming it under a 64 MiB limit, and
+    registers nothing, instead of aborting the interpreter."""
+    registry = surfkit.EatRegistry(2**32 - 1)
+    surfkit.set_max_memory(64 << 20)
+    try:
+        with pytest.raises(surfkit.ResourceLimit, match=r"vertex id 4294967294 .*80 GiB"):
+            registry.add_facet([0, 1, 2**32 - 2])
+        assert registry.statistics()["facets"] == 0
+        assert registry.add_facet([0, 1, 2])["facet"] == 0
+    finally:
+        surfkit.set_max_memory(None)
+    assert registry.statistics() == {
+        "vertices": 3,
+        "edges": 3,
+        "facets": 1,
+        "euler_characteristic": 1,
+    }
+
+
+def test_a_registry_is_used_and_dropped_on_other_threads(monkeypatch: pytest.MonkeyPatch):
+    unraisable = []
+    monkeypatch.setattr(sys, "unraisablehook", unraisable.append)
+    registry = surfkit.EatRegistry()
+    with ThreadPoolExecutor(2) as pool:
+        assert pool.submit(registry.add_facet, [0, 1, 2]).result()["facet"] == 0
+        assert pool.submit(registry.checkpoint, 1).result()["verified"]
+        made = pool.submit(surfkit.EatRegistry).result()
+        made.add_facet([0, 1, 2])
+        holder = [registry]
+        pool.submit(holder.clear).result()  # the last reference goes on the worker
+    del registry
+    assert made.statistics()["facets"] == 1
+    del made
+    assert unraisable == []

@@ -4,6 +4,8 @@ and an independent bicubic B-spline evaluation."""
 from __future__ import annotations
 
 import subprocess
+import sys
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -167,3 +169,29 @@ def test_bad_limit_points_are_named():
         surfkit.subdivide(
             surfkit.read_mesh(MESHES / "catmark_torus.obj"), 1, creases=[(0, 1, float("nan"))]
         )
+
+
+def test_out_of_range_levels_are_named():
+    torus = surfkit.read_mesh(MESHES / "catmark_torus.obj")
+    for bad in (-1, 2**32, 2**70):
+        with pytest.raises(surfkit.InvalidInput, match=f"levels {bad} is out of range"):
+            surfkit.subdivide(torus, bad)
+
+
+def test_a_limit_surface_is_used_and_dropped_on_other_threads(monkeypatch: pytest.MonkeyPatch):
+    unraisable = []
+    monkeypatch.setattr(sys, "unraisablehook", unraisable.append)
+    torus = surfkit.read_mesh(MESHES / "catmark_torus.obj")
+    surface = surfkit.LimitSurface(torus)
+    here = surface.evaluate([0, 1], 0.5, 0.5)
+    with ThreadPoolExecutor(2) as pool:
+        there = [pool.submit(surface.evaluate, [0, 1], 0.5, 0.5) for _ in range(4)]
+        for future in there:
+            np.testing.assert_array_equal(future.result()["position"], here["position"])
+        made = pool.submit(surfkit.LimitSurface, torus).result()
+        np.testing.assert_array_equal(made.evaluate([0, 1], 0.5, 0.5)["k1"], here["k1"])
+        holder = [surface]
+        del surface
+        pool.submit(holder.clear).result()  # the last reference goes on the worker
+    del made
+    assert unraisable == []

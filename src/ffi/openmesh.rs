@@ -60,3 +60,8 @@ pub mod bridge {
         fn write_with_openmesh(self: &HalfEdgeMesh, path: &str) -> Result<()>;
     }
 }
+
+// SAFETY: a HalfEdgeMesh owns its OpenMesh PolyMesh outright and keeps no thread-local or
+// shared state (omerr's capture is set up per call, under a lock), so it may be moved to
+// and dropped on another thread: a modelling program's companion may live on any thread.
+unsafe impl Send for bridge::HalfEdgeMesh {}

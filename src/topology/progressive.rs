@@ -7,6 +7,7 @@ use super::registry::{EatRegistry, FacetRegistration};
 use super::statistics::EatStatistics;
 use crate::error::Result;
 use crate::halfedge::{self, FaceStatus, OpenMeshHalfEdge};
+use crate::limits::MemoryBudget;
 use crate::mesh::PolygonMesh;
 
 /// A facet registered since the last verified point, with its counters as they stand.
@@ -62,9 +63,26 @@ impl ModelCompanion {
     }
 
     /// EAT-TA for one facet; `input_id` is how the caller names it in reports.
-    pub fn register_facet(&mut self, corners: &[u32], input_id: u32) -> FacetRegistration {
+    ///
+    /// # Errors
+    /// [`crate::Error::ResourceLimit`] when a vertex id is beyond what the process's memory
+    /// budget ([`MemoryBudget::default`]) allows the registry (it keeps an item per id up to
+    /// the largest); nothing is registered then.
+    pub fn register_facet(&mut self, corners: &[u32], input_id: u32) -> Result<FacetRegistration> {
+        self.make_room(corners)?;
         self.input_ids.push(input_id);
-        self.registry.register_facet(corners)
+        Ok(self.registry.register_facet(corners))
+    }
+
+    /// Room in the registry for `corners`' ids, checked against the memory budget only
+    /// when the registry must grow (rarely: its arrays grow geometrically).
+    fn make_room(&mut self, corners: &[u32]) -> Result<()> {
+        match corners.iter().max() {
+            Some(&max) if max as usize >= self.registry.id_capacity() => self
+                .registry
+                .reserve_vertex_ids(max, MemoryBudget::default()),
+            _ => Ok(()),
+        }
     }
 
     /// A companion whose accepted facets are mirrored into an OpenMesh half-edge mesh over
@@ -130,9 +148,13 @@ impl ModelCompanion {
     }
 
     /// EAT-TA for one facet without the per-facet report (for scanning whole meshes).
-    pub fn register(&mut self, corners: &[u32], input_id: u32) -> u32 {
+    ///
+    /// # Errors
+    /// Those of [`register_facet`](Self::register_facet).
+    pub fn register(&mut self, corners: &[u32], input_id: u32) -> Result<u32> {
+        self.make_room(corners)?;
         self.input_ids.push(input_id);
-        self.registry.register(corners)
+        Ok(self.registry.register(corners))
     }
 
     pub fn registry(&self) -> &EatRegistry {
@@ -201,11 +223,11 @@ mod tests {
     fn a_missing_triangle_fails_the_test_point_and_names_the_new_facets() {
         // A closed tetrahedron (χ = 2) drawn in two stages; the second stage forgets a face.
         let mut c = ModelCompanion::new();
-        c.register_facet(&[0, 1, 2], 0);
+        c.register_facet(&[0, 1, 2], 0).unwrap();
         let first = c.checkpoint(1); // a triangle is a disk
         assert!(first.verified);
-        c.register_facet(&[0, 3, 1], 1);
-        c.register_facet(&[1, 3, 2], 2);
+        c.register_facet(&[0, 3, 1], 1).unwrap();
+        c.register_facet(&[1, 3, 2], 2).unwrap();
         let second = c.checkpoint(2);
         assert!(!second.verified);
         assert_eq!(second.statistics.euler_characteristic, 1);
@@ -219,7 +241,7 @@ mod tests {
         // Edge {3,1} has two facets, edge {0,3} one: the open edges border the gap.
         let d = &second.since_last_verified[0];
         assert_eq!(d.vertices, vec![(0, 3), (3, 3), (1, 3)]);
-        c.register_facet(&[0, 2, 3], 3);
+        c.register_facet(&[0, 2, 3], 3).unwrap();
         let third = c.checkpoint(2);
         assert!(third.verified);
         assert_eq!(third.statistics.facets, 4);
@@ -235,17 +257,17 @@ mod tests {
             [0.0, 0.0, 1.0],
         ];
         let mut c = ModelCompanion::with_halfedge(&positions).unwrap();
-        c.register_facet(&[0, 1, 2], 0);
-        c.register_facet(&[0, 3, 1], 1);
+        c.register_facet(&[0, 1, 2], 0).unwrap();
+        c.register_facet(&[0, 3, 1], 1).unwrap();
         {
             let (mesh, status, _) = c.halfedge().unwrap().unwrap();
             assert_eq!(mesh.face_count(), 2);
             assert_eq!(mesh.boundary_loops().unwrap().len(), 1);
             assert_eq!(status, &[FaceStatus::Added, FaceStatus::Added]);
         }
-        c.register_facet(&[1, 3, 2], 2);
-        c.register_facet(&[0, 2, 3], 3);
-        c.register_facet(&[0, 1, 2], 4); // the first facet again: OpenMesh refuses it
+        c.register_facet(&[1, 3, 2], 2).unwrap();
+        c.register_facet(&[0, 2, 3], 3).unwrap();
+        c.register_facet(&[0, 1, 2], 4).unwrap(); // the first facet again: OpenMesh refuses it
         let (mesh, status, said) = c.halfedge().unwrap().unwrap();
         assert_eq!(mesh.face_count(), 4);
         assert_eq!(mesh.boundary_loops().unwrap().len(), 0);

@@ -13,6 +13,9 @@
 
 use foldhash::HashMap;
 
+use crate::error::{Error, Result};
+use crate::limits::{human_bytes, MemoryBudget};
+
 /// A registered vertex: its input id and `vc`, the number of edges at it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct VertexItem {
@@ -90,6 +93,10 @@ pub struct EatRegistry {
     hub_edges: HashMap<u64, u32>,
     hub_sets: HashMap<Vec<u32>, u32>,
 }
+
+/// Bytes kept per vertex id up to the largest id seen: the five arrays indexed by id
+/// (`slot_of_vertex`, `edge_head`, `set_head`, `edge_chain`, `set_chain`, a `u32` each).
+pub const BYTES_PER_VERTEX_ID: u64 = 20;
 
 /// Chain length past which a vertex's edges and vertex sets are also kept in hash maps.
 const HUB_CHAIN: u32 = 32;
@@ -283,6 +290,62 @@ impl EatRegistry {
         set
     }
 
+    /// Makes room for vertex ids up to `max_id`: the arrays indexed by id grow to
+    /// `max_id + 1` entries ([`BYTES_PER_VERTEX_ID`] each) whatever the real vertex count,
+    /// so an id is a size claim, checked against `budget` before anything is allocated.
+    /// Registering facets whose ids have room never allocates by id.
+    ///
+    /// # Errors
+    /// [`Error::ResourceLimit`] naming the id and the memory it needs, when that passes
+    /// `budget` or the allocation fails.
+    pub fn reserve_vertex_ids(&mut self, max_id: u32, budget: MemoryBudget) -> Result<()> {
+        let len = max_id as usize + 1;
+        if len <= self.id_capacity() {
+            return Ok(());
+        }
+        let bytes = len as u64 * BYTES_PER_VERTEX_ID;
+        let refuse = |advice: String| Error::ResourceLimit {
+            what: format!(
+                "vertex id {max_id} (the EAT registry keeps {BYTES_PER_VERTEX_ID} bytes per id \
+                 up to the largest: {})",
+                human_bytes(bytes)
+            ),
+            limit: budget.get(),
+            advice,
+        };
+        if bytes > budget.get() {
+            return Err(refuse(format!(
+                "number the vertices densely from 0; ids below {} fit",
+                budget.items(BYTES_PER_VERTEX_ID)
+            )));
+        }
+        let failed = |_| refuse("the allocation failed".into());
+        let additional = len - self.slot_of_vertex.len();
+        self.slot_of_vertex
+            .try_reserve(additional)
+            .map_err(failed)?;
+        self.edge_head.try_reserve(additional).map_err(failed)?;
+        self.set_head.try_reserve(additional).map_err(failed)?;
+        self.edge_chain.try_reserve(additional).map_err(failed)?;
+        self.set_chain.try_reserve(additional).map_err(failed)?;
+        Ok(())
+    }
+
+    /// How many vertex ids have room without allocating (see
+    /// [`reserve_vertex_ids`](Self::reserve_vertex_ids)).
+    pub fn id_capacity(&self) -> usize {
+        [
+            self.slot_of_vertex.capacity(),
+            self.edge_head.capacity(),
+            self.set_head.capacity(),
+            self.edge_chain.capacity(),
+            self.set_chain.capacity(),
+        ]
+        .into_iter()
+        .min()
+        .unwrap_or(0)
+    }
+
     fn register_vertex(&mut self, v: u32) -> u32 {
         let i = v as usize;
         if i >= self.slot_of_vertex.len() {
@@ -375,6 +438,8 @@ impl EatRegistry {
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+
     /// A closed fan of `n` triangles around `hub` with rim vertices `rim(k)`, its facet 7
     /// written twice (the second time rotated) and one spoke facet reversed.
     fn fan(n: u32, hub: u32, rim: impl Fn(u32) -> u32) -> Vec<Vec<u32>> {
@@ -421,7 +486,23 @@ mod tests {
         assert_eq!(a.facet_counter(300), 2);
     }
 
-    use super::*;
+    #[test]
+    fn a_vertex_id_past_the_memory_budget_is_refused_before_allocating() {
+        let mut r = EatRegistry::new();
+        let budget = MemoryBudget::bytes(1 << 20);
+        let err = r.reserve_vertex_ids(u32::MAX - 1, budget).unwrap_err();
+        let message = err.to_string();
+        assert!(matches!(err, Error::ResourceLimit { .. }), "{message}");
+        assert!(message.contains("vertex id 4294967294"), "{message}");
+        assert!(message.contains("80 GiB") && message.contains("ids below 52428 fit"));
+        assert_eq!(r.id_capacity(), 0);
+        r.reserve_vertex_ids(52_427, budget).unwrap();
+        assert!(r.id_capacity() >= 52_428);
+        // Room already made is not checked again, so growth by one id costs nothing.
+        r.reserve_vertex_ids(1000, MemoryBudget::bytes(0)).unwrap();
+        r.register(&[0, 52_427, 7]);
+        assert_eq!(r.vertex_count(), 3);
+    }
 
     #[test]
     fn counters_on_two_triangles() {

@@ -151,7 +151,7 @@ pub fn scan(mesh: &PolygonMesh, options: &EatOptions) -> Result<EatReport> {
         || options.halfedge.then(|| halfedge_report(mesh)).transpose(),
         || accompany(mesh, options),
     );
-    let mut report = registry_side;
+    let mut report = registry_side?;
     report.halfedge = halfedge?;
     Ok(report)
 }
@@ -167,7 +167,7 @@ fn halfedge_report(mesh: &PolygonMesh) -> Result<HalfEdgeReport> {
 }
 
 /// The accompanying test proper: registration with test points, then structure and flaws.
-fn accompany(mesh: &PolygonMesh, options: &EatOptions) -> EatReport {
+fn accompany(mesh: &PolygonMesh, options: &EatOptions) -> Result<EatReport> {
     let faces = mesh.face_count();
     let mut companion =
         ModelCompanion::with_capacity(mesh.vertex_count(), faces, mesh.face_indices.len());
@@ -187,7 +187,7 @@ fn accompany(mesh: &PolygonMesh, options: &EatOptions) -> EatReport {
     };
     check(&mut companion, 0, &mut checkpoints);
     for (f, corners) in mesh.faces().enumerate() {
-        companion.register(corners, f as u32);
+        companion.register(corners, f as u32)?;
         check(&mut companion, f + 1, &mut checkpoints);
     }
     let registry = companion.registry();
@@ -200,7 +200,7 @@ fn accompany(mesh: &PolygonMesh, options: &EatOptions) -> EatReport {
     let (flaws, walks) = locate_with(registry, &structure, &mesh.positions, &ids, &geometry);
     let counts = counts(mesh, registry, &structure, &flaws, &walks);
     let components = component_topology(registry, &structure, &walks);
-    EatReport {
+    Ok(EatReport {
         statistics: companion.statistics(),
         counts,
         components,
@@ -208,7 +208,7 @@ fn accompany(mesh: &PolygonMesh, options: &EatOptions) -> EatReport {
         first_failure,
         flaws,
         halfedge: None,
-    }
+    })
 }
 
 fn counts(

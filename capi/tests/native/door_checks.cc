@@ -2,7 +2,8 @@
 // also under AddressSanitizer + LeakSanitizer): bad input gets a status and a message
 // naming the element, never an abort; a throwing progress callback is rethrown, a
 // cancelling one stops the run; 1000 create/free cycles of every handle leak nothing; the
-// process's memory limit is set, enforced and restored.
+// process's memory limit is set, enforced (also on the EAT registry's vertex ids) and
+// restored; EatCompanion keeps degenerate facets from OpenMesh; a whole-mesh test point.
 // Prints "ok: N checks" and exits 0, or names the failed check and exits 1.
 #include <surfkit/openmesh.hh>
 
@@ -342,6 +343,21 @@ static void memory_limit() {
   EXPECT(says("393216 quads") && says("memory limit of 16 MiB") && says("6 levels fit"));
   EXPECT(surfkit_subdivide(m, 5, nullptr, &fine) == SURFKIT_OK);
   surfkit_mesh_free(fine);
+  // A vertex id is a size claim of the EAT registry (20 bytes per id up to the largest):
+  // one near 2³² is refused within the limit instead of aborting on 80 GiB, and registers
+  // nothing; small ids still register.
+  SurfkitRegistry* g = nullptr;
+  EXPECT(surfkit_registry_new(0xFFFFFFFFu, &g) == SURFKIT_OK);
+  const uint32_t far[3] = {0xFFFFFFFEu, 1, 2};
+  EXPECT(surfkit_registry_add_facet(g, far, 3, 0, nullptr) == SURFKIT_RESOURCE_LIMIT);
+  EXPECT(says("vertex id 4294967294") && says("80 GiB") && says("memory limit of 16 MiB"));
+  const uint32_t near[3] = {0, 1, 2};
+  uint32_t facet = 99;
+  EXPECT(surfkit_registry_add_facet(g, near, 3, 1, &facet) == SURFKIT_OK && facet == 0);
+  SurfkitEatStatistics stats{};
+  EXPECT(surfkit_registry_statistics(g, &stats) == SURFKIT_OK);
+  EXPECT(stats.vertices == 3 && stats.edges == 3 && stats.facets == 1);
+  surfkit_registry_free(g);
   EXPECT(surfkit_set_max_memory(0) == SURFKIT_OK && surfkit_max_memory() == machine);
   EXPECT(surfkit_subdivide(m, 8, nullptr, &fine) == SURFKIT_OK);
   surfkit_mesh_free(fine);
@@ -368,6 +384,79 @@ static void coarse_start_option() {
   }
 }
 
+/// EatCompanion with degenerate facets (fewer than 3 corners, a repeated vertex): the
+/// registry counts them, OpenMesh (whose add_face asserts on them) never sees them, and
+/// they are reported as refusals; the mesh keeps only the good facets.
+static void companion_degenerate_faces() {
+  Mesh m;
+  std::vector<Mesh::VertexHandle> v;
+  for (int i = 0; i < 4; ++i) v.push_back(m.add_vertex(Mesh::Point(i & 1, i >> 1, 0)));
+  surfkit::EatCompanion<Mesh> c(m);
+  EXPECT(c.add_face({v[0], v[1], v[2]}).is_valid());
+  EXPECT(!c.add_face({v[1]}).is_valid());
+  EXPECT(!c.add_face({v[1], v[3]}).is_valid());
+  EXPECT(!c.add_face({v[1], v[3], v[1]}).is_valid());
+  EXPECT(c.add_face({v[1], v[3], v[2]}).is_valid());
+  EXPECT(m.n_faces() == 2);
+  const auto& refused = c.refusals();
+  EXPECT(refused.size() == 3);
+  EXPECT(refused[0].facet == 1 && refused[0].corners.size() == 1);
+  EXPECT(refused[0].message == "degenerate: fewer than 3 corners");
+  EXPECT(refused[1].facet == 2 && refused[1].message == "degenerate: fewer than 3 corners");
+  EXPECT(refused[2].facet == 3 && refused[2].message == "degenerate: a repeated vertex");
+  // All five facets count: V = 4, E = 5 (the 1-gon has none, the 2-gon and the repeated
+  // vertex's facet run edge 1–3), F = 5.
+  auto cp = c.checkpoint(4);
+  EXPECT(cp.facets == 5 && cp.vertices == 4 && cp.edges == 5 && cp.verified);
+  cp = c.checkpoint(0);
+  EXPECT(!cp.verified);
+}
+
+/// EatOptions::test_points {{0, χ}} is the whole mesh, as documented; two such points are
+/// refused by name; the C door takes null facet counts with one expected value.
+static void whole_mesh_test_point() {
+  Mesh m = grid(2, 0.f);
+  surfkit::EatOptions o;
+  o.test_points = {{0, 1}};
+  surfkit::EatReport r = surfkit::eat(m, o);
+  EXPECT(r.test_points.size() == 1 && r.test_points[0].facets == 4 && r.test_points[0].verified);
+  o.test_points = {{0, 2}};
+  r = surfkit::eat(m, o);
+  EXPECT(r.test_points.size() == 1 && !r.test_points[0].verified && !r.verified);
+  o.test_points = {{0, 1}, {0, 1}};
+  bool refused = false;
+  try {
+    surfkit::eat(m, o);
+  } catch (const surfkit::Error& e) {
+    refused = e.status() == SURFKIT_INVALID_INPUT && std::strstr(e.what(), "whole-mesh") != nullptr;
+  }
+  EXPECT(refused);
+  std::vector<double> p;
+  std::vector<uint32_t> off, idx;
+  cube(p, off, idx);
+  SurfkitMesh* cm = nullptr;
+  EXPECT(surfkit_mesh_new(p.data(), 8, off.data(), 6, idx.data(), &cm) == SURFKIT_OK);
+  SurfkitEatOptions co{};
+  EXPECT(surfkit_eat_options_default(&co) == SURFKIT_OK);
+  const int64_t chi = 2;
+  co.test_point_facets = nullptr;
+  co.test_point_expected = &chi;
+  co.test_point_count = 1;
+  SurfkitEatReport* report = nullptr;
+  EXPECT(surfkit_eat_scan(cm, &co, &report) == SURFKIT_OK);
+  SurfkitTestPoint t{};
+  EXPECT(surfkit_eat_report_test_point(report, 0, nullptr, &t) == SURFKIT_OK);
+  EXPECT(t.facets == 6 && t.verified);
+  surfkit_eat_report_free(report);
+  const int64_t two[2] = {2, 2};
+  co.test_point_expected = two;
+  co.test_point_count = 2;
+  report = nullptr;
+  EXPECT(surfkit_eat_scan(cm, &co, &report) == SURFKIT_INVALID_INPUT && report == nullptr);
+  EXPECT(says("test_point_facets is a null pointer"));
+  surfkit_mesh_free(cm);
+}
+
 int main() {
   EXPECT(surfkit_abi_version() == SURFKIT_ABI_VERSION);
   EXPECT(std::strlen(surfkit_version()) > 0);
@@ -378,6 +467,8 @@ int main() {
   cycles();
   memory_limit();
   coarse_start_option();
+  companion_degenerate_faces();
+  whole_mesh_test_point();
   std::cout << "ok: " << checks << " checks" << std::endl;
   return 0;
 }
