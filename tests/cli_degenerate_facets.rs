@@ -22,7 +22,16 @@ fn json(out: &Output) -> serde_json::Value {
 }
 
 /// (file name, OBJ text, edges, degenerate facets, facets OpenMesh holds, flaw kinds).
-const CASES: &[(&str, &str, u64, u64, u64, &[&str])] = &[
+type Case = (
+    &'static str,
+    &'static str,
+    u64,
+    u64,
+    u64,
+    &'static [&'static str],
+);
+
+const CASES: &[Case] = &[
     (
         "consecutive.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\n",
