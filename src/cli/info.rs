@@ -51,7 +51,7 @@ pub fn render(path: &std::path::Path, format: Format, s: &MeshSummary) -> String
     let arities: Vec<String> = s
         .arity_histogram
         .iter()
-        .map(|(n, c)| format!("{c} with {n} corners"))
+        .map(|(n, c)| format!("{c} with {n} corner{}", if *n == 1 { "" } else { "s" }))
         .collect();
     let _ = writeln!(out, "{} ({format})", path.display());
     let _ = writeln!(
