@@ -601,6 +601,11 @@ fn messages_name_the_file_the_option_and_the_real_problem() {
             "-1 must be positive and finite".into(),
         ),
         (
+            vec!["limit".into(), p(&mesh), "-o".into(), p(&out), "--png".into(), p(&dir.path().join("x.jpg"))],
+            1,
+            "x.jpg: the picture is written as PNG; give a name ending in .png".into(),
+        ),
+        (
             // A mistyped folder has no extension: what is wrong is that it is not there.
             vec!["eat".into(), p(&dir.path().join("no_such_folder"))],
             1,

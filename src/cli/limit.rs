@@ -86,6 +86,15 @@ pub fn run(args: &LimitArgs, memory: MemoryBudget) -> crate::Result<()> {
             ("--html", args.html.as_deref()),
         ],
     )?;
+    // The picture is PNG bytes: a name that says otherwise would mislead the next program.
+    if let Some(ext) = args.png.as_deref().and_then(|p| p.extension()) {
+        if !ext.eq_ignore_ascii_case("png") {
+            return Err(crate::Error::InvalidInput(format!(
+                "--png {}: the picture is written as PNG; give a name ending in .png",
+                png.display()
+            )));
+        }
+    }
     let mesh = read(&args.input)?;
     let (creases, corners, creasing) = super::sharp_args::sharp_features(&mesh, &args.sharp)?;
     let options = SubdivOptions {
