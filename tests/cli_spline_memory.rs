@@ -5,8 +5,18 @@
 use std::path::Path;
 use std::process::Command;
 
-fn surfkit() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_surfkit"))
+/// `surfkit --max-memory MEMORY COMMAND DATA ARGS…`: its exit status and stderr.
+fn run(memory: &str, command: &str, data: &Path, args: &[&str]) -> (Option<i32>, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_surfkit"))
+        .args(["--max-memory", memory, command])
+        .arg(data)
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
 
 /// `n` × `n` points of the plane z = u + v on [0, 1]², one at the centre of each cell of an
@@ -29,19 +39,23 @@ fn a_sampled_mesh_beyond_the_limit_is_refused_before_the_solve() {
     let dir = tempfile::tempdir().unwrap();
     let data = plane(dir.path(), 10);
     let output = dir.path().join("fit.ply");
+    let output_arg = output.to_str().unwrap();
     for command in ["fit", "fill"] {
-        let out = surfkit()
-            .args(["--max-memory", "64M", command])
-            .arg(&data)
-            .args(["--cells", "4,4", "--resolution", "4096", "--output"])
-            .arg(&output)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{command}: {stderr}");
-        // 4096² samples of 64 bytes: 1 GiB.
+        let args = |resolution| {
+            [
+                "--cells",
+                "4,4",
+                "--resolution",
+                resolution,
+                "--output",
+                output_arg,
+            ]
+        };
+        let (status, stderr) = run("64M", command, &data, &args("4096"));
+        assert_eq!(status, Some(1), "{command}: {stderr}");
+        // 4096² samples of 72 bytes: 1.1 GiB.
         assert!(
-            stderr.contains("--resolution 4096") && stderr.contains("1.0 GiB"),
+            stderr.contains("--resolution 4096") && stderr.contains("1.1 GiB"),
             "{command}: {stderr}"
         );
         assert!(
@@ -50,18 +64,8 @@ fn a_sampled_mesh_beyond_the_limit_is_refused_before_the_solve() {
         );
         assert!(!output.exists(), "{command}: nothing written");
         // Within the limit the same command writes its mesh.
-        let out = surfkit()
-            .args(["--max-memory", "64M", command])
-            .arg(&data)
-            .args(["--cells", "4,4", "--resolution", "256", "--output"])
-            .arg(&output)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{command}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let (status, stderr) = run("64M", command, &data, &args("256"));
+        assert_eq!(status, Some(0), "{command}: {stderr}");
         assert!(output.exists());
         std::fs::remove_file(&output).unwrap();
     }
@@ -69,33 +73,18 @@ fn a_sampled_mesh_beyond_the_limit_is_refused_before_the_solve() {
 
 #[test]
 fn a_cholesky_factor_beyond_the_limit_is_refused_with_its_size() {
-    // 300 × 300 biquadratic cells: 302² unknowns per coordinate, whose factor (tens of MB)
-    // does not fit 4 MiB; the same data on 30 × 30 cells does.
+    // 300 × 300 biquadratic cells: 302² unknowns, whose factor does not fit 4 MiB; the same
+    // data on 30 × 30 cells does.
     let dir = tempfile::tempdir().unwrap();
     let data = plane(dir.path(), 300);
-    let out = surfkit()
-        .args(["--max-memory", "4M", "fit"])
-        .arg(&data)
-        .args(["--cells", "300,300"])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    let (status, stderr) = run("4M", "fit", &data, &["--cells", "300,300"]);
+    assert_eq!(status, Some(1), "{stderr}");
     assert!(
         stderr.contains("sparse Cholesky factor of a system of order")
             && stderr.contains("memory limit of 4.0 MiB")
             && stderr.contains("fewer cells"),
         "{stderr}"
     );
-    let out = surfkit()
-        .args(["--max-memory", "4M", "fit"])
-        .arg(&data)
-        .args(["--cells", "30,30"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (status, stderr) = run("4M", "fit", &data, &["--cells", "30,30"]);
+    assert_eq!(status, Some(0), "{stderr}");
 }

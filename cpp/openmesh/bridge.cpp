@@ -98,22 +98,6 @@ uint8_t classify(const std::string& message) {
   return OTHER;
 }
 
-// Fewer than three corners or a repeated corner. Small faces by pairs; large ones (a face
-// may have a million corners) sorted, so the check stays n log n.
-bool is_degenerate(const std::vector<PolyMesh::VertexHandle>& vs) {
-  if (vs.size() < 3) return true;
-  if (vs.size() <= 32) {
-    for (size_t i = 0; i < vs.size(); ++i)
-      for (size_t j = i + 1; j < vs.size(); ++j)
-        if (vs[i] == vs[j]) return true;
-    return false;
-  }
-  std::vector<int> ids(vs.size());
-  for (size_t i = 0; i < vs.size(); ++i) ids[i] = vs[i].idx();
-  std::sort(ids.begin(), ids.end());
-  return std::adjacent_find(ids.begin(), ids.end()) != ids.end();
-}
-
 // Whether the n corners at `corners` repeat a vertex: small facets by pairs, large ones
 // sorted in `scratch` (a facet may have a million corners).
 bool has_repeated_corner(const uint32_t* corners, size_t n, std::vector<uint32_t>& scratch) {
@@ -141,7 +125,8 @@ uint8_t add_one(HalfEdgeMesh& m, const uint32_t* corners, size_t n, uint32_t inp
                               std::to_string(m.mesh.n_vertices()) + " vertices");
     vs[k] = PolyMesh::VertexHandle(static_cast<int>(corners[k]));
   }
-  if (is_degenerate(vs)) return DEGENERATE;
+  std::vector<uint32_t> scratch;  // allocated only for a face of over 32 corners
+  if (n < 3 || has_repeated_corner(corners, n, scratch)) return DEGENERATE;
   auto fh = m.mesh.add_face(vs);
   if (fh.is_valid()) {
     // OpenMesh speaks only when it refuses a face: no flush of omerr() per added face.

@@ -87,53 +87,41 @@ enum Generate {
     Tubes(fair::TubesArgs),
 }
 
-/// clap parser of a number in (0, 1), e.g. a relative tolerance.
-fn open_unit_interval(text: &str) -> Result<f64, String> {
+/// A number parsed from `text` and accepted by `ok`, else `text` and what it `must` be.
+fn number_where(text: &str, ok: impl Fn(f64) -> bool, must: &str) -> Result<f64, String> {
     let x: f64 = text
         .parse()
         .map_err(|_| format!("{text:?} is not a number"))?;
-    if x > 0.0 && x < 1.0 {
+    if ok(x) {
         Ok(x)
     } else {
-        Err(format!("{text} must lie strictly between 0 and 1"))
+        Err(format!("{text} must {must}"))
     }
+}
+
+/// clap parser of a number in (0, 1), e.g. a relative tolerance.
+fn open_unit_interval(text: &str) -> Result<f64, String> {
+    number_where(text, |x| x > 0.0 && x < 1.0, "lie strictly between 0 and 1")
 }
 
 /// clap parser of a number in [0, 1], e.g. a fraction of F.
 fn closed_unit_interval(text: &str) -> Result<f64, String> {
-    let x: f64 = text
-        .parse()
-        .map_err(|_| format!("{text:?} is not a number"))?;
-    if (0.0..=1.0).contains(&x) {
-        Ok(x)
-    } else {
-        Err(format!("{text} must lie between 0 and 1"))
-    }
+    number_where(text, |x| (0.0..=1.0).contains(&x), "lie between 0 and 1")
 }
 
 /// clap parser of a finite number ≥ 0, e.g. a distance. An infinite weld tolerance would
 /// make every vertex coincident with every other (a repair would weld the mesh away).
 fn non_negative_finite(text: &str) -> Result<f64, String> {
-    let x: f64 = text
-        .parse()
-        .map_err(|_| format!("{text:?} is not a number"))?;
-    if x >= 0.0 && x.is_finite() {
-        Ok(x)
-    } else {
-        Err(format!("{text} must be a finite number ≥ 0"))
-    }
+    number_where(
+        text,
+        |x| x >= 0.0 && x.is_finite(),
+        "be a finite number ≥ 0",
+    )
 }
 
 /// clap parser of a positive finite number.
 fn positive_finite(text: &str) -> Result<f64, String> {
-    let x: f64 = text
-        .parse()
-        .map_err(|_| format!("{text:?} is not a number"))?;
-    if x > 0.0 && x.is_finite() {
-        Ok(x)
-    } else {
-        Err(format!("{text} must be positive and finite"))
-    }
+    number_where(text, |x| x > 0.0 && x.is_finite(), "be positive and finite")
 }
 
 /// Runs the command line; errors are printed as one line naming the file and the problem.

@@ -457,21 +457,29 @@ mod tests {
     use super::*;
     use crate::tolerance::SOLVE;
 
+    /// The height field (u, v, z(u, v)) sampled on an n × n grid of [0, 1]², without the
+    /// samples in the square [0.4, 0.6]² when `gap`.
+    fn grid_samples(n: usize, gap: bool, z: impl Fn(f64, f64) -> f64) -> ScatteredData {
+        let mut d = ScatteredData::default();
+        let step = (n - 1) as f64;
+        for i in 0..n {
+            for j in 0..n {
+                let (u, v) = (i as f64 / step, j as f64 / step);
+                if gap && (0.4..=0.6).contains(&u) && (0.4..=0.6).contains(&v) {
+                    continue;
+                }
+                d.params.push([u, v]);
+                d.points.push([u, v, z(u, v)]);
+            }
+        }
+        d
+    }
+
     #[test]
     fn fits_a_quadratic_patch_and_fills_the_empty_cells() {
         // Data of an affine map on [0,1]² with a square gap [0.4, 0.6]²: a fit with 5 × 5
         // cells leaves cell (2, 2) empty; the filled surface reproduces the affine map.
-        let mut d = ScatteredData::default();
-        for i in 0..40 {
-            for j in 0..40 {
-                let (u, v) = (i as f64 / 39.0, j as f64 / 39.0);
-                if (0.4..=0.6).contains(&u) && (0.4..=0.6).contains(&v) {
-                    continue;
-                }
-                d.params.push([u, v]);
-                d.points.push([u, v, 1.0 + u - 2.0 * v]);
-            }
-        }
+        let d = grid_samples(40, true, |u, v| 1.0 + u - 2.0 * v);
         for space in [SpaceKind::Biquadratic, SpaceKind::Bicubic, SpaceKind::BfsC1] {
             let setup = FitSetup {
                 space,
@@ -493,14 +501,7 @@ mod tests {
     #[test]
     fn normal_offset_of_a_plane_is_a_shifted_plane() {
         // f(u, v) = (u, v, 0.5u): n = (−0.5, 0, 1)/√1.25; d₃ = 0.1 shifts every point by 0.1n.
-        let mut d = ScatteredData::default();
-        for i in 0..15 {
-            for j in 0..15 {
-                let (u, v) = (i as f64 / 14.0, j as f64 / 14.0);
-                d.params.push([u, v]);
-                d.points.push([u, v, 0.5 * u]);
-            }
-        }
+        let d = grid_samples(15, false, |u, _| 0.5 * u);
         let setup = FitSetup {
             space: SpaceKind::Biquadratic,
             cells: [3, 3],
@@ -523,17 +524,7 @@ mod tests {
         // The plane f(u, v) = (u, v, 0.5u) sampled with a square gap [0.4, 0.6]²: 5 × 5 cells
         // leave cell (2, 2) without data, the hole. The offset data are the points shifted
         // by 0.1n, and the filled offset surface is that shifted plane in the gap too.
-        let mut d = ScatteredData::default();
-        for i in 0..40 {
-            for j in 0..40 {
-                let (u, v) = (i as f64 / 39.0, j as f64 / 39.0);
-                if (0.4..=0.6).contains(&u) && (0.4..=0.6).contains(&v) {
-                    continue;
-                }
-                d.params.push([u, v]);
-                d.points.push([u, v, 0.5 * u]);
-            }
-        }
+        let d = grid_samples(40, true, |u, _| 0.5 * u);
         let setup = FitSetup {
             space: SpaceKind::Biquadratic,
             cells: [5, 5],

@@ -7,6 +7,7 @@
 
 use super::disjoint_sets::DisjointSets;
 use super::registry::EatRegistry;
+use crate::mesh::io::repeated_vertex;
 
 const NONE: u32 = u32::MAX;
 
@@ -178,8 +179,15 @@ fn fans_of(layout: &Layout, edge_count: usize) -> (Vec<u32>, Vec<u32>, Vec<u32>)
     let corners = layout.corners;
     let mut corner_sets = DisjointSets::new(corners.len());
     for facet in layout.offsets.windows(2) {
-        for (k, j) in repeated_corners(corners, facet[0]..facet[1]) {
-            corner_sets.union(k, j);
+        let range = facet[0]..facet[1];
+        if repeated_vertex(&corners[range.start as usize..range.end as usize]).is_none() {
+            continue;
+        }
+        // A degenerate facet (rare): its corners at one vertex, joined.
+        let mut by_vertex: Vec<(u32, u32)> = range.map(|k| (corners[k as usize], k)).collect();
+        by_vertex.sort_unstable();
+        for w in by_vertex.windows(2).filter(|w| w[0].0 == w[1].0) {
+            corner_sets.union(w[0].1, w[1].1);
         }
     }
     for e in 0..edge_count {
@@ -217,28 +225,6 @@ fn fans_of(layout: &Layout, edge_count: usize) -> (Vec<u32>, Vec<u32>, Vec<u32>)
         .map(|(v, r)| (v, r.len() as u32))
         .unzip();
     (corner_fan, non_manifold_vertices, fans)
-}
-
-/// Pairs of corners in `range` (one facet's) at the same vertex: each repeated corner with
-/// the first at its vertex. Small facets by pairs, large ones sorted (a facet may have a
-/// million corners).
-fn repeated_corners(corners: &[u32], range: std::ops::Range<u32>) -> Vec<(u32, u32)> {
-    let facet = &corners[range.start as usize..range.end as usize];
-    if facet.len() <= 32 {
-        return (1..facet.len())
-            .filter_map(|j| {
-                let first = facet[..j].iter().position(|&v| v == facet[j])?;
-                Some((range.start + first as u32, range.start + j as u32))
-            })
-            .collect();
-    }
-    let mut by_vertex: Vec<(u32, u32)> = range.clone().map(|k| (corners[k as usize], k)).collect();
-    by_vertex.sort_unstable();
-    by_vertex
-        .windows(2)
-        .filter(|w| w[0].0 == w[1].0)
-        .map(|w| (w[0].1, w[1].1))
-        .collect()
 }
 
 /// Components (facets joined through shared edges), boundary loops (pieces of the graph

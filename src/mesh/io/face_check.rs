@@ -15,7 +15,18 @@ pub fn degeneracy_as_written(corners: &[u32], base: i64) -> Option<String> {
             corners.len()
         ));
     }
-    let repeated = if corners.len() <= 16 {
+    repeated_vertex(corners).map(|v| {
+        format!(
+            "vertex index {} is repeated in the face",
+            i64::from(v) + base
+        )
+    })
+}
+
+/// A vertex the face holds more than once, if any: small faces by pairs, large ones sorted
+/// (a face may have a million corners).
+pub fn repeated_vertex(corners: &[u32]) -> Option<u32> {
+    if corners.len() <= 16 {
         corners
             .iter()
             .enumerate()
@@ -24,13 +35,7 @@ pub fn degeneracy_as_written(corners: &[u32], base: i64) -> Option<String> {
         let mut sorted = corners.to_vec();
         sorted.sort_unstable();
         sorted.windows(2).find(|w| w[0] == w[1]).map(|w| w[0])
-    };
-    repeated.map(|v| {
-        format!(
-            "vertex index {} is repeated in the face",
-            i64::from(v) + base
-        )
-    })
+    }
 }
 
 /// The message for a 0-based index that names no vertex, or `None` when it is in range.

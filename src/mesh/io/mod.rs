@@ -20,7 +20,7 @@ use crate::error::{Error, Result};
 use crate::mesh::PolygonMesh;
 
 pub use atomic::write_atomically;
-pub use face_check::degeneracy;
+pub use face_check::{degeneracy, repeated_vertex};
 pub use ply::{read_vertex_property, PlyEncoding};
 
 /// The mesh file formats surfkit reads and writes.
