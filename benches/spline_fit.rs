@@ -15,7 +15,7 @@ use std::time::Instant;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
-use surfkit::fit::paper_kp2022::offset;
+use surfkit::fit::papers::kp2022::offset;
 use surfkit::fit::smoothing::{smoothing_spline, SmoothingOptions};
 use surfkit::spline::{Partition, Space, TensorSpace};
 

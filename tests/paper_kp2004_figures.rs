@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::process::Command;
 
-use surfkit::fit::paper_kp2004::{Kp2004Problem, FIGURE_RESOLUTION, TAU};
+use surfkit::fit::papers::kp2004::{Kp2004Problem, FIGURE_RESOLUTION, TAU};
 use surfkit::tolerance::{near, ROUND_OFF};
 
 const NAMES: [&str; 3] = ["reference", "tau0", "tau10"];

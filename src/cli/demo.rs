@@ -237,13 +237,14 @@ pub fn run(args: &DemoArgs) -> crate::Result<ExitCode> {
     println!(
         "\n— Offset surface with two elliptic holes: smoothing spline and hole filling (KP 2022) —"
     );
-    let run = crate::fit::paper_kp2022::run(9, 500, 1e-9, 0, crate::fit::fill::FillVariant::Paper)?;
+    let run =
+        crate::fit::papers::kp2022::run(9, 500, 1e-9, 0, crate::fit::fill::FillVariant::Paper)?;
     println!(
         "  9 × 9 knots, 500 points, ε = 1e-9: Error₁ {:.3e} (paper 2.7695e-4), filled Error {:.3e} (paper 2.7216e-4), C¹ jump across the hole border {:.1e}",
         run.error1, run.error, run.c1_jump
     );
     println!("wrote:");
-    let figures = crate::fit::paper_kp2022::figure_meshes(0)?;
+    let figures = crate::fit::papers::kp2022::figure_meshes(0)?;
     for path in crate::report::write_figures(&args.out, &figures)? {
         println!("  {}", path.display());
     }

@@ -2,7 +2,7 @@
 //! prints ours next to the paper's (human table, or `--json`).
 
 use crate::fit::fill::FillVariant;
-use crate::fit::{paper_kp2004, paper_kp2022, paper_kpo2024};
+use crate::fit::papers::{kp2004, kp2022, kpo2024};
 use crate::report::write_figures;
 
 /// Which reproduction to run.
@@ -72,8 +72,8 @@ pub fn run(args: &PaperArgs) -> crate::Result<()> {
                 VariantArg::Paper => FillVariant::Paper,
                 VariantArg::ExactC1 => FillVariant::ExactC1,
             };
-            let rows = paper_kp2022::table1(args.seeds, variant)?;
-            let written = write_figures(&args.figures, &paper_kp2022::figure_meshes(0)?)?;
+            let rows = kp2022::table1(args.seeds, variant)?;
+            let written = write_figures(&args.figures, &kp2022::figure_meshes(0)?)?;
             if args.json {
                 return json(&rows);
             }
@@ -95,7 +95,7 @@ pub fn run(args: &PaperArgs) -> crate::Result<()> {
             }
         }
         PaperName::Kpo2024Table1 => {
-            let rows = paper_kpo2024::table1(args.seeds)?;
+            let rows = kpo2024::table1(args.seeds)?;
             if args.json {
                 return json(&rows);
             }
@@ -110,7 +110,7 @@ pub fn run(args: &PaperArgs) -> crate::Result<()> {
                     r.points, r.epsilon, r.error.median, r.error.min, r.error.max, r.paper_error
                 );
             }
-            let fill = paper_kpo2024::fill_run(1500, 1e-9, 0, 3, true)?;
+            let fill = kpo2024::fill_run(1500, 1e-9, 0, 3, true)?;
             println!(
                 "shape-preserving filling (§4–5), M = 1500, ε = 1e-9, seed 0: {} inequalities (positive, increasing in u and v), \
                  worst violation {:.1e}, {} of {} check points in H violating, σ₁ E_r {:.3e}, filled surface E_r {:.3e}",
@@ -127,9 +127,9 @@ pub fn run(args: &PaperArgs) -> crate::Result<()> {
             } else {
                 2
             };
-            let rows = paper_kp2004::sweep(which, &[0.0, 0.1, 1.0, paper_kp2004::TAU, 100.0])?;
-            let figures = paper_kp2004::Kp2004Problem::new(which)?
-                .figures(paper_kp2004::TAU, paper_kp2004::FIGURE_RESOLUTION)?;
+            let rows = kp2004::sweep(which, &[0.0, 0.1, 1.0, kp2004::TAU, 100.0])?;
+            let figures = kp2004::Kp2004Problem::new(which)?
+                .figures(kp2004::TAU, kp2004::FIGURE_RESOLUTION)?;
             let written = write_figures(&args.figures, &figures)?;
             if args.json {
                 return json(&rows);
@@ -146,7 +146,7 @@ pub fn run(args: &PaperArgs) -> crate::Result<()> {
             }
             println!(
                 "figures (x₀, the fit at τ = 0 and at τ = {}; quality: the local parallelism defect):",
-                paper_kp2004::TAU
+                kp2004::TAU
             );
             for path in written {
                 println!("  {}", path.display());

@@ -15,11 +15,11 @@ use crate::error::Result;
 use crate::mesh::PolygonMesh;
 use crate::spline::{Hermite1d, Partition, TensorSpace};
 
-use super::offset::unit_normal;
-use super::paper_kp2022::SurfaceFn;
-use super::parallel::{parallel_fit, ParallelFit, ParallelOptions};
-use super::sample::sample_mesh;
-use super::surface::VectorSpline;
+use super::kp2022::SurfaceFn;
+use crate::fit::offset::unit_normal;
+use crate::fit::parallel::{parallel_fit, ParallelFit, ParallelOptions};
+use crate::fit::sample::sample_mesh;
+use crate::fit::surface::VectorSpline;
 
 /// The paper's parameters.
 pub const EPSILON: f64 = 1e-7;

@@ -15,10 +15,10 @@ use serde::Serialize;
 use crate::error::{Error, Result};
 use crate::spline::{Partition, Space, TensorSpace};
 
-use super::fill::{fill_hole, FillOptions, FillVariant};
-use super::hole::{Hole, HoleShape};
-use super::offset::GeneralizedOffset;
-use super::smoothing::{smoothing_spline, SmoothingOptions};
+use crate::fit::fill::{fill_hole, FillOptions, FillVariant};
+use crate::fit::hole::{Hole, HoleShape};
+use crate::fit::offset::GeneralizedOffset;
+use crate::fit::smoothing::{smoothing_spline, SmoothingOptions};
 
 /// One row of the paper's Table 1: (n = m, k(N), ε, Error₁, Error).
 pub const PAPER_TABLE1: [(usize, usize, f64, f64, f64); 18] = [

@@ -18,10 +18,10 @@ use serde::Serialize;
 use crate::error::{Error, Result};
 use crate::spline::{Partition, Space, TensorSpace};
 
-use super::hole::{Hole, HoleShape};
-use super::offset::GeneralizedOffset;
-use super::paper_kp2022::{Spread, SurfaceFn};
-use super::smoothing::{smoothing_spline, DerivativeData, SmoothingOptions};
+use super::kp2022::{Spread, SurfaceFn};
+use crate::fit::hole::{Hole, HoleShape};
+use crate::fit::offset::GeneralizedOffset;
+use crate::fit::smoothing::{smoothing_spline, DerivativeData, SmoothingOptions};
 
 /// The paper's Table 1 (M, ε, E_r), first block.
 pub const PAPER_TABLE1: [(usize, f64, f64); 9] = [
@@ -131,7 +131,7 @@ pub fn space() -> Result<TensorSpace<crate::spline::Hermite1d>> {
 struct Fitted {
     space: TensorSpace<crate::spline::Hermite1d>,
     mask: Vec<bool>,
-    sigma1: super::surface::VectorSpline,
+    sigma1: crate::fit::surface::VectorSpline,
     /// 5000 random points of Ω − H_h.
     xi_outside: Vec<[f64; 2]>,
     /// 5000 random points of Ω.
@@ -264,7 +264,7 @@ pub struct Kpo2024Fill {
 /// terms at the nodes of ∂H_h, σ̄₂ with positivity and monotonicity in u and v of the third
 /// component (f's height, a sigmoid increasing in u and v), σ₂ = σ̄₂ + offset terms.
 ///
-/// Errors: as [`run`], and [`super::shape::shape_preserving_fill`]'s.
+/// Errors: as [`run`], and [`crate::fit::shape::shape_preserving_fill`]'s.
 pub fn fill_run(
     points: usize,
     epsilon: f64,
@@ -272,7 +272,7 @@ pub fn fill_run(
     extra_per_side: usize,
     figures: bool,
 ) -> Result<Kpo2024Fill> {
-    use super::shape::{shape_preserving_fill, ShapeConstraints, Tau};
+    use crate::fit::shape::{shape_preserving_fill, ShapeConstraints, Tau};
     let f = fit(points, epsilon, seed, true)?;
     let off = offset();
     let disp = |u: f64, v: f64| off.displacement(u, v);
@@ -339,7 +339,7 @@ pub fn fill_run(
         }
     }
     let figures = if figures {
-        super::sample::hole_figures(
+        crate::fit::sample::hole_figures(
             [
                 "kpo2024_offset_with_hole",
                 "kpo2024_sigma1_approximation",
