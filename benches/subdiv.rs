@@ -7,7 +7,7 @@
 //! for all four and the ratios the issue asks for (goals: surfkit's overhead over direct
 //! OpenSubdiv < 20 %, faster than CGAL at 3 levels, ≥ 15× faster than pymeshlab).
 //! `SURFKIT_BENCH_QUICK=1` runs the 10k mesh only; pymeshlab is skipped (and says so) when
-//! `python3 -c "import pymeshlab"` fails. The C++ reference is `tests/cgal/bench_refine.cpp`,
+//! `python3 -c "import pymeshlab"` fails. The C++ reference is `tests/subdiv/cgal/bench_refine.cpp`,
 //! run in a fresh process per library: timed after CGAL in the same process, direct
 //! OpenSubdiv ran up to 2.5× faster at 10k faces only because CGAL's large frees had left
 //! glibc's heap warm, which made surfkit's shim look 50–160 % slower than it is.
@@ -29,7 +29,7 @@ fn bench_dir() -> PathBuf {
 
 fn reference_program() -> PathBuf {
     let exe = bench_dir().join("bench_refine");
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/cgal/bench_refine.cpp");
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/subdiv/cgal/bench_refine.cpp");
     let out = Command::new("c++")
         .args(["-std=c++17", "-O2", "-DNDEBUG", "-o"])
         .arg(&exe)

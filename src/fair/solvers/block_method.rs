@@ -16,7 +16,7 @@
 //!
 //! Measured (2 shared cores, release): on the 359-vertex junction with isolation 2 and
 //! 3 nodes the method reaches the plain optimum in 10 sweeps and 2 global Hessians
-//! (tests/fair_blocks.rs). At the default isolation 4 the sweeps converge only linearly:
+//! (tests/fair/blocks.rs). At the default isolation 4 the sweeps converge only linearly:
 //! 359 vertices, 4 blocks, tolerance 1e-8: 154 sweeps and 8 global Hessians in 261 s,
 //! where the plain method needs 30 Hessians (measured before the same session made each
 //! Hessian about 2.5× cheaper, which speeds both up); 1295 vertices, tolerance 1e-7:

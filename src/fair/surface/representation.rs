@@ -81,7 +81,7 @@ pub enum QDomain {
     /// over elements, each in its own parameters). Why: in the face's parameters ∇Δp of
     /// the Catmull–Clark limit grows without bound toward an extraordinary vertex and its
     /// square is not integrable there, so Q would grow with the isolation level (×5 per
-    /// level by level 5 on the raw 359-vertex junction, `tests/fair_q_domain.rs`) and make the
+    /// level by level 5 on the raw 359-vertex junction, `tests/fair/q_domain.rs`) and make the
     /// Hessian ever stiffer; in the sub-patch's own parameters a patch of size h weighs h⁴
     /// as much, and Q converges.
     /// S does not depend on the parameterization and is the same either way.
@@ -98,7 +98,7 @@ pub enum QDomain {
 /// Cᵢ = 1 was the value that hurt it: Q of the faces at a special vertex, in their
 /// sub-patches' own parameters, is positive even where the sectors around the vertex are
 /// planar affine grids, and its descent pulls their vertices toward the special vertex
-/// (`tests/fair_special_elements.rs`). On the 23997-vertex five-tube junction (saddles of
+/// (`tests/fair/special_elements.rs`). On the 23997-vertex five-tube junction (saddles of
 /// valence 10) the optimizer followed that pull until patches two rings out nearly
 /// folded (|p_u| 2.6·10⁻⁴ against edges of 10⁻², sin∠(p_u, p_v) 0.09, Hessian diagonal
 /// 10²⁰ against 10¹¹ elsewhere) and stalled. From the raw mesh with Cᵢ = 0.25 it stopped
@@ -116,7 +116,7 @@ pub enum SurfaceKind {
     /// each special vertex, k degree-(9, 9) patches ([`crate::fair::G2Representation`]).
     /// The default: it is the surface the paper optimizes (curvature continuous where the
     /// Catmull–Clark limit's curvature is unbounded at special vertices), and surfkit's S
-    /// and F on it are the author's program's (`tests/fair_g2_surface.rs`).
+    /// and F on it are the author's program's (`tests/fair/g2_surface.rs`).
     #[default]
     G2,
     /// The Catmull–Clark limit surface as OpenSubdiv's feature-adaptive patches with

@@ -6,8 +6,6 @@
 //! report; asking for it on a mesh without a coarser level is a clear error, and so is a
 //! problem beyond the memory budget.
 
-mod common;
-
 use std::ops::ControlFlow;
 use std::process::Command;
 
@@ -95,7 +93,8 @@ fn same_minimum(surface: SurfaceKind) {
             (f - f_plain).abs() <= 1e-9 * f_plain,
             "{coarse_start:?}: F {f} vs {f_plain}"
         );
-        let worst = common::largest_coordinate_difference(&plain.positions, &multilevel.positions);
+        let worst =
+            crate::common::largest_coordinate_difference(&plain.positions, &multilevel.positions);
         assert!(
             worst <= 1e-6 * diagonal,
             "{coarse_start:?}: positions differ by {worst:e} of {diagonal}"

@@ -2,8 +2,6 @@
 //! polygons, cross-checked with MeshLab and trimesh there), refused faces listed, and every
 //! query checked against the pure-Rust reference implementation of the same trait.
 
-mod common;
-
 use std::collections::BTreeSet;
 
 use surfkit::halfedge::{self, FaceStatus, HalfEdgeTopology, ReferenceTopology};
@@ -62,36 +60,36 @@ fn partition(c: &halfedge::Components) -> Vec<(u32, u32)> {
 
 #[test]
 fn counts_match_reference_where_openmesh_takes_every_face() {
-    for (path, reference) in common::reference_meshes() {
+    for (path, reference) in crate::common::reference_meshes() {
         let mesh = read_with(&path, &lenient()).unwrap();
         let built = halfedge::build(&mesh).unwrap();
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         let refused: Vec<_> = built.refused().collect();
         assert_eq!(
             built.mesh.vertex_count(),
-            common::count(&reference, "V"),
+            crate::common::count(&reference, "V"),
             "{name}: V"
         );
         if refused.is_empty() {
             assert_eq!(
                 built.mesh.edge_count(),
-                common::count(&reference, "E"),
+                crate::common::count(&reference, "E"),
                 "{name}: E"
             );
             assert_eq!(
                 built.mesh.face_count(),
-                common::count(&reference, "F"),
+                crate::common::count(&reference, "F"),
                 "{name}: F"
             );
             let loops = built.mesh.boundary_loops().unwrap();
             assert_eq!(
                 loops.len(),
-                common::count(&reference, "boundary_loops_walk"),
+                crate::common::count(&reference, "boundary_loops_walk"),
                 "{name}: walk loops"
             );
             assert_eq!(
                 built.mesh.connected_components().count as usize,
-                common::count(&reference, "components"),
+                crate::common::count(&reference, "components"),
                 "{name}: components"
             );
             assert!(
@@ -103,7 +101,7 @@ fn counts_match_reference_where_openmesh_takes_every_face() {
             // Every refused face is named with a reason, and OpenMesh's words were captured.
             assert_eq!(
                 built.mesh.face_count() + refused.len(),
-                common::count(&reference, "F"),
+                crate::common::count(&reference, "F"),
                 "{name}: accepted + refused = F"
             );
             assert!(refused.iter().all(|(_, s)| *s != FaceStatus::Added));
@@ -117,9 +115,9 @@ fn counts_match_reference_where_openmesh_takes_every_face() {
 
 #[test]
 fn meshes_with_non_manifold_edges_have_refused_faces() {
-    for (path, reference) in common::reference_meshes() {
-        let nm_edges = common::count(&reference, "non_manifold_edges");
-        let dup = common::count(&reference, "duplicated_facets");
+    for (path, reference) in crate::common::reference_meshes() {
+        let nm_edges = crate::common::count(&reference, "non_manifold_edges");
+        let dup = crate::common::count(&reference, "duplicated_facets");
         let mesh = read_with(&path, &lenient()).unwrap();
         let built = halfedge::build(&mesh).unwrap();
         if nm_edges > 0 || dup > 0 {
@@ -135,7 +133,7 @@ fn meshes_with_non_manifold_edges_have_refused_faces() {
 #[test]
 fn an_edge_shared_by_a_hundred_quads_keeps_one_face_per_direction() {
     let mesh = read_with(
-        &common::meshes_dir().join("catmark_nonman_edge100.obj"),
+        &crate::common::meshes_dir().join("catmark_nonman_edge100.obj"),
         &lenient(),
     )
     .unwrap();
@@ -162,7 +160,7 @@ fn an_edge_shared_by_a_hundred_quads_keeps_one_face_per_direction() {
 
 #[test]
 fn openmesh_and_the_reference_agree_on_every_query() {
-    for (path, _) in common::reference_meshes() {
+    for (path, _) in crate::common::reference_meshes() {
         let name = path.display().to_string();
         let mesh = read_with(&path, &lenient()).unwrap();
         let built = halfedge::build(&mesh).unwrap();
@@ -205,7 +203,11 @@ fn openmesh_and_the_reference_agree_on_every_query() {
 
 #[test]
 fn positions_written_back_are_read_back() {
-    let mesh = read_with(&common::meshes_dir().join("catmark_torus.obj"), &lenient()).unwrap();
+    let mesh = read_with(
+        &crate::common::meshes_dir().join("catmark_torus.obj"),
+        &lenient(),
+    )
+    .unwrap();
     let mut built = halfedge::build(&mesh).unwrap();
     let moved: Vec<[f64; 3]> = mesh
         .positions
@@ -228,7 +230,7 @@ fn positions_written_back_are_read_back() {
 #[test]
 fn incremental_faces_report_like_the_batch() {
     let mesh = read_with(
-        &common::meshes_dir().join("joined_tetrahedra.obj"),
+        &crate::common::meshes_dir().join("joined_tetrahedra.obj"),
         &lenient(),
     )
     .unwrap();
@@ -251,7 +253,7 @@ fn incremental_faces_report_like_the_batch() {
 fn surfkit_reads_what_openmesh_writes() {
     let dir = tempfile::tempdir().unwrap();
     for name in ["catmark_nonquads.obj", "rabbit.obj", "fixed_top.ply"] {
-        let mesh = read_with(&common::meshes_dir().join(name), &lenient()).unwrap();
+        let mesh = read_with(&crate::common::meshes_dir().join(name), &lenient()).unwrap();
         let built = halfedge::build(&mesh).unwrap();
         assert_eq!(built.refused().count(), 0);
         for ext in ["obj", "off", "ply"] {

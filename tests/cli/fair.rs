@@ -2,8 +2,6 @@
 //! mean curvature (checked against finite differences of limit positions), before/after
 //! pictures, and fixed vertices from an id list or a MeshLab-style PLY selection.
 
-mod common;
-
 use std::path::Path;
 use std::process::Command;
 
@@ -116,7 +114,7 @@ fn fair_writes_mesh_samples_and_figures() {
 
     // The optimized mesh: same faces, fixed vertices bit-identical.
     let out = read(&output).unwrap();
-    common::assert_faces_and_boundary_rings_kept(&mesh, &out);
+    crate::common::assert_faces_and_boundary_rings_kept(&mesh, &out);
 
     // The samples: one (K+1)² grid per internal face, in face order; positions are limit
     // points of the optimized mesh, quality its mean curvature.
@@ -450,7 +448,7 @@ fn cli_fair_levels_write_the_finest_level() {
         assert!(level["report"]["newton"]["converged"].as_bool().unwrap());
     }
     let out = read(&output).unwrap();
-    let fixed = common::assert_faces_and_boundary_rings_kept(&fine, &out);
+    let fixed = crate::common::assert_faces_and_boundary_rings_kept(&fine, &out);
     assert!(fixed.iter().any(|&f| !f));
 }
 

@@ -6,8 +6,6 @@
 //! bit-identical and topology and vertex order are the input's. Coarse-to-fine
 //! ([`optimize_levels`]) reaches the same minimum as a raw start on the refined mesh.
 
-mod common;
-
 use surfkit::fair::{
     fixed_vertices, optimize, optimize_levels, refine_surface, sector_disc, tubes, FairOptions,
     Functional, LmMatrix, LmSearch, MeshTopology, NewtonReport, RepresentationOptions, StepKind,
@@ -105,7 +103,7 @@ fn fair_optimize_levels_reach_the_raw_start_minimum() {
     assert!(finest.final_gradient_norm <= 1e-8 * finest.initial_gradient_norm);
     let (f0, f1) = (direct_report.final_terms.f, finest.final_terms.f);
     assert!((f0 - f1).abs() <= 1e-9 * f0, "F {f0} vs {f1}");
-    let fixed = common::assert_faces_and_boundary_rings_kept(&fine, &cascaded);
+    let fixed = crate::common::assert_faces_and_boundary_rings_kept(&fine, &cascaded);
     let mut largest: f64 = 0.0;
     for (v, _) in fixed.iter().enumerate().filter(|(_, &held)| !held) {
         for a in 0..3 {
@@ -183,7 +181,8 @@ fn fair_optimize_paper_steps_and_default_steps_reach_the_same_minimum() {
     for (other, r) in [(&default, &report), (&halved, &halved_report)] {
         let f1 = r.final_terms.f;
         assert!((f0 - f1).abs() <= 1e-9 * f0, "F {f0} vs {f1}");
-        let largest = common::largest_coordinate_difference(&paper.positions, &other.positions);
+        let largest =
+            crate::common::largest_coordinate_difference(&paper.positions, &other.positions);
         assert!(largest < 1e-4, "vertices differ by {largest}");
     }
 }
@@ -349,7 +348,8 @@ fn same_minimum(
         assert!(first_report.newton.converged && second_report.newton.converged);
         let (f0, f1) = (first_report.final_terms.f, second_report.final_terms.f);
         assert!((f0 - f1).abs() <= 1e-9 * f0, "F {f0} vs {f1}");
-        let largest = common::largest_coordinate_difference(&first.positions, &second.positions);
+        let largest =
+            crate::common::largest_coordinate_difference(&first.positions, &second.positions);
         assert!(largest < 1e-6 * diagonal, "vertices differ by {largest}");
         reports.push((
             representation.surface,
@@ -395,7 +395,7 @@ fn check(mesh: &surfkit::mesh::PolygonMesh, representation: RepresentationOption
         assert!(sd1 < sd0);
     }
     assert_eq!(report.refinements, 0);
-    common::assert_faces_and_boundary_rings_kept(&mesh, &out);
+    crate::common::assert_faces_and_boundary_rings_kept(&mesh, &out);
     let topo = MeshTopology::new(&mesh).unwrap();
     assert_eq!(
         MeshTopology::new(&out).unwrap().euler_characteristic(),
@@ -551,7 +551,8 @@ fn fair_optimize_hessians_at_fewer_nodes_reach_the_same_minimum() {
         assert!(report.newton.converged);
         let (f0, f1) = (exact_report.final_terms.f, report.final_terms.f);
         assert!((f0 - f1).abs() <= 1e-9 * f0, "F {f0} vs {f1}");
-        let largest = common::largest_coordinate_difference(&exact.positions, &out.positions);
+        let largest =
+            crate::common::largest_coordinate_difference(&exact.positions, &out.positions);
         assert!(largest <= 1e-6 * diagonal, "vertices differ by {largest}");
     }
 }

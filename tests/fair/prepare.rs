@@ -1,8 +1,6 @@
 //! Preparation (Kiciak §2, §4): refinement until the paper's conditions hold with χ
 //! unchanged, fixed vertices, and the errors for closed meshes with nothing fixed.
 
-mod common;
-
 use surfkit::error::Error;
 use surfkit::fair::{
     condition_violation, fixed_vertices, optimize, prepare, FairOptions, MeshTopology, SurfaceKind,
@@ -11,7 +9,7 @@ use surfkit::mesh::PolygonMesh;
 
 #[test]
 fn fair_prepare_cube_needs_one_level_and_keeps_chi() {
-    let mesh = common::unit_cube();
+    let mesh = crate::common::unit_cube();
     let topo = MeshTopology::new(&mesh).unwrap();
     assert_eq!(topo.euler_characteristic(), 2);
     assert!(condition_violation(&mesh, &topo, SurfaceKind::CatmullClark).is_some());
@@ -57,21 +55,21 @@ fn fair_prepare_triangles_become_quads() {
 #[test]
 fn fair_prepare_too_few_levels_is_a_topology_error() {
     assert!(matches!(
-        prepare(&common::unit_cube(), 0, SurfaceKind::G2),
+        prepare(&crate::common::unit_cube(), 0, SurfaceKind::G2),
         Err(Error::Topology(_))
     ));
 }
 
 #[test]
 fn fair_closed_mesh_with_nothing_fixed_is_an_error() {
-    let (refined, _) = prepare(&common::unit_cube(), 2, SurfaceKind::G2).unwrap();
+    let (refined, _) = prepare(&crate::common::unit_cube(), 2, SurfaceKind::G2).unwrap();
     let topo = MeshTopology::new(&refined).unwrap();
     match fixed_vertices(&topo, 3, &[]) {
         Err(Error::InvalidInput(m)) => assert!(m.contains("closed"), "{m}"),
         other => panic!("expected an InvalidInput error, got {other:?}"),
     }
     assert!(matches!(
-        optimize(&common::unit_cube(), &FairOptions::default()),
+        optimize(&crate::common::unit_cube(), &FairOptions::default()),
         Err(Error::InvalidInput(_))
     ));
     // With a vertex given, the closed mesh has something to hold.

@@ -2,8 +2,6 @@
 //! `surfkit eat FILE --json` gives; a file that cannot be read is a line with its error
 //! and the others are kept; the exit status says whether every file passed.
 
-mod common;
-
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::Command;
@@ -18,11 +16,15 @@ fn corpus(dir: &Path) -> usize {
     let sub = dir.join("sub");
     std::fs::create_dir(&sub).unwrap();
     let mut count = 0;
-    for (path, _) in common::reference_meshes() {
+    for (path, _) in crate::common::reference_meshes() {
         std::fs::copy(&path, dir.join(path.file_name().unwrap())).unwrap();
         count += 1;
     }
-    std::fs::copy(common::meshes_dir().join("spot.obj"), sub.join("SPOT.OBJ")).unwrap();
+    std::fs::copy(
+        crate::common::meshes_dir().join("spot.obj"),
+        sub.join("SPOT.OBJ"),
+    )
+    .unwrap();
     std::fs::write(sub.join("bad.obj"), "garbage\n").unwrap();
     std::fs::write(sub.join("notes.txt"), "not a mesh\n").unwrap();
     count + 2
@@ -89,8 +91,8 @@ fn a_folder_gives_per_file_what_single_scans_give() {
 fn exit_status_says_whether_every_file_passed() {
     let dir = tempfile::tempdir().unwrap();
     let (a, b) = (dir.path().join("a.obj"), dir.path().join("b.obj"));
-    std::fs::copy(common::meshes_dir().join("spot.obj"), &a).unwrap();
-    std::fs::copy(common::meshes_dir().join("target.obj"), &b).unwrap();
+    std::fs::copy(crate::common::meshes_dir().join("spot.obj"), &a).unwrap();
+    std::fs::copy(crate::common::meshes_dir().join("target.obj"), &b).unwrap();
     let status = |extra: &[&str]| {
         surfkit()
             .arg("eat")

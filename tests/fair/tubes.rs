@@ -3,8 +3,6 @@
 //! EAT statistics; the refined surface compared with the unrefined one by OpenSubdiv's
 //! limit evaluation.
 
-mod common;
-
 use std::collections::{HashMap, HashSet};
 
 use surfkit::fair::{
@@ -233,7 +231,7 @@ fn fair_tubes_paper_table_1_sizes() {
 #[test]
 fn fair_tubes_closed_mesh_and_thin_mesh() {
     // A closed mesh has no ring to drop: refine_surface is Catmull–Clark.
-    let cube = common::unit_cube();
+    let cube = crate::common::unit_cube();
     let refined = refine_surface(&cube, 1).unwrap();
     assert_eq!((refined.vertex_count(), refined.face_count()), (26, 24));
     // A single quad is all boundary: refinement leaves nothing, an error not an empty mesh.

@@ -2,8 +2,6 @@
 //! there and cross-checked with MeshLab and trimesh), and its boundary walk agrees with
 //! OpenMesh's where OpenMesh takes every facet.
 
-mod common;
-
 use std::collections::BTreeSet;
 
 use surfkit::halfedge::{self, HalfEdgeTopology};
@@ -22,12 +20,12 @@ fn opt(record: &serde_json::Value, field: &str) -> Option<usize> {
 
 #[test]
 fn every_count_agrees_with_reference() {
-    for (path, r) in common::reference_meshes() {
+    for (path, r) in crate::common::reference_meshes() {
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         let mesh = read_with(&path, &lenient()).unwrap();
         let report = scan(&mesh, &EatOptions::default()).unwrap();
         let c = &report.counts;
-        let n = |f: &str| common::count(&r, f);
+        let n = |f: &str| crate::common::count(&r, f);
         assert_eq!(c.vertices_in_file, n("V"), "{name}: V");
         assert_eq!(
             c.vertices_referenced,
@@ -119,14 +117,14 @@ fn every_count_agrees_with_reference() {
 
 #[test]
 fn closed_clean_meshes_report_no_flaw() {
-    for (path, r) in common::reference_meshes() {
+    for (path, r) in crate::common::reference_meshes() {
         let clean = r["tags"].as_array().unwrap().iter().any(|t| t == "closed")
-            && common::count(&r, "non_manifold_edges") == 0
-            && common::count(&r, "non_manifold_vertices") == 0
-            && common::count(&r, "unreferenced_vertices") == 0
-            && common::count(&r, "duplicated_facets") == 0
-            && common::count(&r, "coincident_vertex_extra") == 0
-            && common::count(&r, "boundary_edges") == 0;
+            && crate::common::count(&r, "non_manifold_edges") == 0
+            && crate::common::count(&r, "non_manifold_vertices") == 0
+            && crate::common::count(&r, "unreferenced_vertices") == 0
+            && crate::common::count(&r, "duplicated_facets") == 0
+            && crate::common::count(&r, "coincident_vertex_extra") == 0
+            && crate::common::count(&r, "boundary_edges") == 0;
         if !clean {
             continue;
         }
@@ -146,7 +144,7 @@ fn closed_clean_meshes_report_no_flaw() {
 
 #[test]
 fn holes_are_the_loops_openmesh_walks_where_it_takes_every_facet() {
-    for (path, _) in common::reference_meshes() {
+    for (path, _) in crate::common::reference_meshes() {
         let mesh = read_with(&path, &lenient()).unwrap();
         let built = halfedge::build(&mesh).unwrap();
         if built.refused().count() > 0 {
@@ -190,7 +188,7 @@ fn holes_are_the_loops_openmesh_walks_where_it_takes_every_facet() {
 
 #[test]
 fn target_obj_has_six_holes_in_one_genus_zero_component() {
-    let mesh = read_with(&common::meshes_dir().join("target.obj"), &lenient()).unwrap();
+    let mesh = read_with(&crate::common::meshes_dir().join("target.obj"), &lenient()).unwrap();
     let report = scan(&mesh, &EatOptions::default()).unwrap();
     assert_eq!(report.components.len(), 1);
     assert_eq!(report.components[0].boundary_loops, 6);

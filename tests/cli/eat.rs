@@ -1,7 +1,5 @@
 //! `surfkit eat` as a pipeline uses it: exit status, JSON report, marked mesh.
 
-mod common;
-
 use std::process::Command;
 
 use surfkit::mesh::io::write;
@@ -68,7 +66,7 @@ fn stages_from_groups_with_targets_pass_and_fail_with_status_3() {
 
 #[test]
 fn fail_on_kinds_and_expectations() {
-    let tetra = common::meshes_dir().join("joined_tetrahedra.obj");
+    let tetra = crate::common::meshes_dir().join("joined_tetrahedra.obj");
     let out = surfkit()
         .args(["eat", "--fail-on", "non_manifold_edge"])
         .arg(&tetra)
@@ -94,18 +92,18 @@ fn fail_on_kinds_and_expectations() {
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown flaw kind \"holes\""));
-    let torus = common::meshes_dir().join("catmark_torus.obj");
+    let torus = crate::common::meshes_dir().join("catmark_torus.obj");
     let out = surfkit()
         .args(["eat", "--reference"])
         .arg(&torus)
-        .arg(common::meshes_dir().join("quadknot.obj"))
+        .arg(crate::common::meshes_dir().join("quadknot.obj"))
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(0), "both are tori");
     let out = surfkit()
         .args(["eat", "--reference"])
         .arg(&torus)
-        .arg(common::meshes_dir().join("spot.obj"))
+        .arg(crate::common::meshes_dir().join("spot.obj"))
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(3), "a sphere is not a torus");

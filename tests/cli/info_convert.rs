@@ -1,7 +1,5 @@
 //! `surfkit info` and `surfkit convert` as users call them.
 
-mod common;
-
 use std::process::Command;
 
 fn surfkit() -> Command {
@@ -12,7 +10,7 @@ fn surfkit() -> Command {
 fn info_json_lists_what_openmesh_refused() {
     let out = surfkit()
         .args(["info", "--json"])
-        .arg(common::meshes_dir().join("joined_tetrahedra.obj"))
+        .arg(crate::common::meshes_dir().join("joined_tetrahedra.obj"))
         .output()
         .unwrap();
     assert!(out.status.success());
@@ -38,7 +36,11 @@ fn info_json_lists_what_openmesh_refused() {
 fn convert_writes_the_other_format_and_never_over_its_input() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("torus.obj");
-    std::fs::copy(common::meshes_dir().join("catmark_torus.obj"), &input).unwrap();
+    std::fs::copy(
+        crate::common::meshes_dir().join("catmark_torus.obj"),
+        &input,
+    )
+    .unwrap();
     let before = std::fs::read(&input).unwrap();
     let out_ply = dir.path().join("torus.ply");
     let ok = surfkit()

@@ -5,8 +5,6 @@
 //! (residual checked with a dense product written here); the blocks cover every free
 //! vertex; bad block counts are errors.
 
-mod common;
-
 use std::sync::OnceLock;
 
 use surfkit::fair::{
@@ -87,7 +85,7 @@ fn fair_blocks_reach_the_plain_optimum() {
         .map(|(a, b)| (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt())
         .fold(0.0, f64::max);
     eprintln!("largest distance between the two optima's vertices: {gap:e}");
-    common::assert_faces_and_boundary_rings_kept(mesh, &out);
+    crate::common::assert_faces_and_boundary_rings_kept(mesh, &out);
 }
 
 #[test]

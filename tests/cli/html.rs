@@ -3,8 +3,6 @@
 //! its flaws' faces), a fill's hole border lies on the hole cells' edges, and the options
 //! fail cleanly where they cannot apply. The browser side is tests/browser.
 
-mod common;
-
 use std::collections::BTreeSet;
 use std::path::Path;
 use std::process::{Command, Output};
@@ -55,7 +53,7 @@ fn f32s(b64: &str) -> Vec<f32> {
 fn the_eat_page_carries_every_flaw_of_the_json_report() {
     let dir = tempfile::tempdir().unwrap();
     for name in ["octagonal_pocket.ply", "catmark_nonman_edge100.obj"] {
-        let mesh = common::meshes_dir().join(name);
+        let mesh = crate::common::meshes_dir().join(name);
         let html = dir.path().join(format!("{name}.html"));
         let out = run(&[
             "eat",
@@ -108,7 +106,7 @@ fn the_eat_page_carries_every_flaw_of_the_json_report() {
 #[test]
 fn html_takes_one_mesh_and_names_the_file_it_cannot_write() {
     let dir = tempfile::tempdir().unwrap();
-    let meshes = common::meshes_dir();
+    let meshes = crate::common::meshes_dir();
     let out = run(&[
         "eat",
         meshes.to_str().unwrap(),

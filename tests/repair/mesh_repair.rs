@@ -6,8 +6,6 @@
 //! clean mesh comes back unchanged; the paper's stamp loses its three flaws and its stage
 //! test points verify.
 
-mod common;
-
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use surfkit::mesh::PolygonMesh;
@@ -99,7 +97,7 @@ fn plus_triangle(
 
 #[test]
 fn a_clean_mesh_comes_back_unchanged() {
-    for (name, mesh) in common::sound_meshes(false) {
+    for (name, mesh) in crate::common::sound_meshes(false) {
         let r = repair(&mesh, &RepairOptions::default()).unwrap();
         assert!(r.changes.is_empty(), "{name}: {:?}", r.changes);
         assert_eq!(r.mesh, mesh, "{name}");
@@ -110,8 +108,8 @@ fn a_clean_mesh_comes_back_unchanged() {
 fn every_injected_flaw_is_repaired_to_the_original_topology() {
     let mut rng = StdRng::seed_from_u64(0x4e_9a14);
     let options = RepairOptions::default();
-    for (name, mesh) in common::sound_meshes(false) {
-        let faces = common::faces_of(&mesh);
+    for (name, mesh) in crate::common::sound_meshes(false) {
+        let faces = crate::common::faces_of(&mesh);
         let pos = mesh.positions.clone();
         let original = topology(&eat(&mesh));
         let pick = |rng: &mut StdRng| rng.random_range(0..faces.len());
@@ -260,12 +258,12 @@ fn the_stamp_loses_its_three_flaws_and_its_test_points_verify() {
         StampFlaw::NarrowQuad,
         StampFlaw::Crack,
     ]);
-    let before = scan(&broken, &common::stamp_stages(&broken)).unwrap();
+    let before = scan(&broken, &crate::common::stamp_stages(&broken)).unwrap();
     assert_eq!(before.flaws.len(), 3);
     assert!(!before.verified());
     let repaired = repair(&broken, &RepairOptions::default()).unwrap();
     assert_eq!(repaired.changes.len(), 3, "{:#?}", repaired.changes);
-    let after = scan(&repaired.mesh, &common::stamp_stages(&repaired.mesh)).unwrap();
+    let after = scan(&repaired.mesh, &crate::common::stamp_stages(&repaired.mesh)).unwrap();
     assert!(after.flaws.is_empty(), "{:?}", after.flaw_counts());
     assert!(after.verified(), "{:#?}", after.checkpoints);
     let clean = stamp(&[]);

@@ -5,8 +5,6 @@
 //! nothing called a crack on the originals, on meshes with ordinary holes, or where a
 //! genuine triangle is missing.
 
-mod common;
-
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use surfkit::mesh::PolygonMesh;
@@ -150,8 +148,8 @@ fn assert_one_crack(
 #[test]
 fn isolated_t_junctions_with_one_to_three_vertices_on_and_off_the_line() {
     let mut rng = StdRng::seed_from_u64(0x7_1c);
-    for (name, mesh) in common::sound_meshes(false) {
-        let faces = common::faces_of(&mesh);
+    for (name, mesh) in crate::common::sound_meshes(false) {
+        let faces = crate::common::faces_of(&mesh);
         let base = scan(&mesh, &EatOptions::default()).unwrap();
         for count in 1..=3 {
             for off in [0.0, rng.random_range(0.001..0.005)] {
@@ -194,12 +192,16 @@ fn rim_of(faces: &[Vec<u32>]) -> Vec<u32> {
 #[test]
 fn t_junctions_from_a_hole_rim_or_the_outer_border_leave_that_loop_as_it_is() {
     let mut rng = StdRng::seed_from_u64(0x4013);
-    let meshes = common::sound_meshes(false)
+    let meshes = crate::common::sound_meshes(false)
         .into_iter()
         .map(|m| (m, true))
-        .chain(common::sound_meshes(true).into_iter().map(|m| (m, false)));
+        .chain(
+            crate::common::sound_meshes(true)
+                .into_iter()
+                .map(|m| (m, false)),
+        );
     for ((name, mesh), punch) in meshes {
-        let faces = common::faces_of(&mesh);
+        let faces = crate::common::faces_of(&mesh);
         for round in 0..3 {
             // A hole around a random vertex (closed meshes), then an edge leaving a rim.
             let holed = if punch {
@@ -255,11 +257,11 @@ fn t_junctions_from_a_hole_rim_or_the_outer_border_leave_that_loop_as_it_is() {
 #[test]
 fn a_missing_triangle_far_from_any_edge_line_is_no_crack() {
     let mut rng = StdRng::seed_from_u64(0x3a);
-    for (name, mesh) in common::sound_meshes(false)
+    for (name, mesh) in crate::common::sound_meshes(false)
         .into_iter()
-        .chain(common::sound_meshes(true))
+        .chain(crate::common::sound_meshes(true))
     {
-        let faces = common::faces_of(&mesh);
+        let faces = crate::common::faces_of(&mesh);
         let base = scan(&mesh, &EatOptions::default()).unwrap();
         let triangles: Vec<usize> = (0..faces.len()).filter(|&f| faces[f].len() == 3).collect();
         if triangles.is_empty() {

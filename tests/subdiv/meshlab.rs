@@ -15,10 +15,6 @@
 //! Needs pymeshlab, which `scripts/setup.sh` installs into `.venv` (found through
 //! `SURFKIT_PYTHON`).
 
-#[path = "cgal/mod.rs"]
-mod cgal;
-mod common;
-
 use std::collections::{BTreeSet, HashMap};
 use std::process::Command;
 
@@ -39,7 +35,7 @@ fn meshlab_catmull_clark(mesh: &PolygonMesh) -> Vec<[f64; 3]> {
                   ms.load_new_mesh(sys.argv[1])\n\
                   ms.meshing_surface_subdivision_catmull_clark(iterations=1)\n\
                   for p in ms.current_mesh().vertex_matrix():\n    print(repr(float(p[0])), repr(float(p[1])), repr(float(p[2])))\n";
-    let out = Command::new(common::peer_python())
+    let out = Command::new(crate::common::peer_python())
         .arg("-c")
         .arg(script)
         .arg(&input)
@@ -120,11 +116,11 @@ fn meshlab_differs_from_catmull_clark_exactly_by_its_vertex_rule() {
     let meshes = [
         (
             "catmark_torus.obj",
-            read(&cgal::fixture("catmark_torus.obj")).unwrap(),
+            read(&crate::cgal::fixture("catmark_torus.obj")).unwrap(),
         ),
         (
             "quadknot.obj",
-            read(&cgal::fixture("quadknot.obj")).unwrap(),
+            read(&crate::cgal::fixture("quadknot.obj")).unwrap(),
         ),
         ("icosahedron split into quads", icosahedron_quads()),
     ];
@@ -145,7 +141,7 @@ fn meshlab_differs_from_catmull_clark_exactly_by_its_vertex_rule() {
         };
         let ours = refine_uniform(&mesh, 1, &SubdivOptions::default()).unwrap();
         assert_eq!(theirs.vertex_count(), ours.vertex_count(), "{name}");
-        let m = cgal::match_vertices(&ours, &theirs, tol);
+        let m = crate::cgal::match_vertices(&ours, &theirs, tol);
         // Everything but the V old-vertex points agrees (face points and edge points) ...
         let v = mesh.vertex_count();
         assert_eq!(
@@ -166,7 +162,7 @@ fn meshlab_differs_from_catmull_clark_exactly_by_its_vertex_rule() {
         let pick = |from: &PolygonMesh, ids: &[usize]| {
             as_mesh(ids.iter().map(|&i| from.positions[i]).collect())
         };
-        let standard = cgal::match_vertices(
+        let standard = crate::cgal::match_vertices(
             &pick(&ours, &m.unmatched_ours),
             &as_mesh(vertex_points(&mesh, false)),
             tol,
@@ -175,7 +171,7 @@ fn meshlab_differs_from_catmull_clark_exactly_by_its_vertex_rule() {
             standard.unmatched_ours.is_empty() && standard.unmatched_theirs.is_empty(),
             "{name}: standard rule"
         );
-        let variant = cgal::match_vertices(
+        let variant = crate::cgal::match_vertices(
             &pick(&theirs, &m.unmatched_theirs),
             &as_mesh(vertex_points(&mesh, true)),
             tol,

@@ -1,9 +1,6 @@
 //! Uniform Catmull–Clark refinement against CGAL's (`Subdivision_method_3`), the Euler
 //! characteristic under refinement, the boundary rules and refined UVs.
 
-#[path = "cgal/mod.rs"]
-mod cgal;
-
 use surfkit::assert_near;
 use surfkit::mesh::io::read;
 use surfkit::mesh::{CornerUvs, PolygonMesh};
@@ -22,8 +19,8 @@ fn assert_matches_cgal(
     options: &SubdivOptions,
 ) -> f64 {
     let ours = refine_uniform(mesh, levels, options).unwrap();
-    let theirs = cgal::catmull_clark(mesh, levels);
-    let diag = cgal::diagonal(mesh);
+    let theirs = crate::cgal::catmull_clark(mesh, levels);
+    let diag = crate::cgal::diagonal(mesh);
     assert_eq!(
         ours.vertex_count(),
         theirs.vertex_count(),
@@ -34,20 +31,20 @@ fn assert_matches_cgal(
         theirs.face_count(),
         "{name} level {levels}: face count"
     );
-    let m = cgal::match_vertices(&ours, &theirs, ROUND_OFF * diag);
+    let m = crate::cgal::match_vertices(&ours, &theirs, ROUND_OFF * diag);
     assert!(
         m.unmatched_theirs.is_empty() && m.unmatched_ours.is_empty(),
         "{name} level {levels}: {} CGAL vertices have no OpenSubdiv vertex within {:e}",
         m.unmatched_theirs.len(),
         ROUND_OFF * diag
     );
-    let our_faces = cgal::face_cycles(
+    let our_faces = crate::cgal::face_cycles(
         ours.faces()
             .map(|f| f.iter().map(|&v| v as usize).collect()),
     );
     assert_eq!(
         Some(our_faces),
-        cgal::faces_in_our_ids(&theirs, &m),
+        crate::cgal::faces_in_our_ids(&theirs, &m),
         "{name} level {levels}: faces differ"
     );
     let rel = m.max_distance / diag;
@@ -58,7 +55,7 @@ fn assert_matches_cgal(
 #[test]
 fn closed_quads_match_cgal_at_levels_1_to_3() {
     for name in ["catmark_torus.obj", "quadknot.obj", "comments.off"] {
-        let mesh = read(&cgal::fixture(name)).unwrap();
+        let mesh = read(&crate::cgal::fixture(name)).unwrap();
         for levels in 1..=3 {
             assert_matches_cgal(name, &mesh, levels, &SubdivOptions::default());
         }
@@ -69,7 +66,7 @@ fn closed_quads_match_cgal_at_levels_1_to_3() {
 fn closed_mixed_polygons_match_cgal_at_levels_1_to_3() {
     // rabbit: triangles, quads and n-gons up to 16 corners; spot and fixed_top: triangles.
     for (name, max_level) in [("rabbit.obj", 3), ("spot.obj", 2), ("fixed_top.ply", 2)] {
-        let mesh = read(&cgal::fixture(name)).unwrap();
+        let mesh = read(&crate::cgal::fixture(name)).unwrap();
         for levels in 1..=max_level {
             assert_matches_cgal(name, &mesh, levels, &SubdivOptions::default());
         }
@@ -110,7 +107,7 @@ fn open_meshes_with_edges_only_boundaries_match_cgal() {
     // CGAL's border rule is the cubic B-spline curve rule (edge midpoint; vertex
     // (prev + 6 v + next) / 8) at every border vertex: OpenSubdiv's EdgesOnly.
     for name in OPEN {
-        let mesh = read(&cgal::fixture(name)).unwrap();
+        let mesh = read(&crate::cgal::fixture(name)).unwrap();
         for levels in 1..=3 {
             assert_matches_cgal(
                 name,
@@ -130,7 +127,7 @@ fn edges_and_corners_differs_from_cgal_exactly_at_corners() {
     for (name, mesh) in [
         (
             "catmark_nonquads.obj",
-            read(&cgal::fixture("catmark_nonquads.obj")).unwrap(),
+            read(&crate::cgal::fixture("catmark_nonquads.obj")).unwrap(),
         ),
         ("grid 3 x 2", grid(3, 2)),
     ] {
@@ -140,10 +137,10 @@ fn edges_and_corners_differs_from_cgal_exactly_at_corners() {
             "{name} should have corners for this test"
         );
         let ours = refine_uniform(&mesh, 1, &SubdivOptions::default()).unwrap();
-        let theirs = cgal::catmull_clark(&mesh, 1);
-        let diag = cgal::diagonal(&mesh);
+        let theirs = crate::cgal::catmull_clark(&mesh, 1);
+        let diag = crate::cgal::diagonal(&mesh);
         let tol = ROUND_OFF * diag;
-        let m = cgal::match_vertices(&ours, &theirs, tol);
+        let m = crate::cgal::match_vertices(&ours, &theirs, tol);
         assert_eq!(m.unmatched_ours.len(), corners.len(), "{name}");
         assert_eq!(m.unmatched_theirs.len(), corners.len(), "{name}");
         let p = |v: u32| mesh.positions[v as usize];
@@ -174,7 +171,7 @@ fn boundary_none_refines_like_edges_only() {
     // withholds the limit surface of boundary faces (see the patch tests). So the refined
     // positions are bit-for-bit those of EdgesOnly, and thus CGAL's.
     for name in OPEN {
-        let mesh = read(&cgal::fixture(name)).unwrap();
+        let mesh = read(&crate::cgal::fixture(name)).unwrap();
         for levels in 1..=2 {
             let none =
                 refine_uniform(&mesh, levels, &with_boundary(BoundaryInterpolation::None)).unwrap();
@@ -217,7 +214,7 @@ fn linear_uvs_refine_bilinearly() {
     // FaceVaryingInterpolation::All (the default): the UVs of each child quad of a face are
     // its corner's UV, the two adjacent edge midpoints and the face's centroid. OpenSubdiv
     // numbers child faces consecutively per parent face, one per parent corner.
-    let mesh = read(&cgal::fixture("catmark_torus.obj")).unwrap();
+    let mesh = read(&crate::cgal::fixture("catmark_torus.obj")).unwrap();
     let uvs = mesh.uvs.as_ref().expect("catmark_torus.obj has vt");
     let refined = refine_uniform(&mesh, 1, &SubdivOptions::default()).unwrap();
     let ruv = refined.uvs.as_ref().expect("refined UVs");
@@ -348,13 +345,13 @@ fn smooth_uvs_without_seams_refine_like_positions() {
     // With UVs equal to (x, y) of each vertex and no seam, a smooth face-varying rule must
     // produce the refined positions' (x, y): the same Catmull–Clark masks on the same data.
     // Closed surface, so no boundary rule is involved.
-    let mesh = read(&cgal::fixture("quadknot.obj")).unwrap();
+    let mesh = read(&crate::cgal::fixture("quadknot.obj")).unwrap();
     let mut with_uv = mesh.clone();
     with_uv.uvs = Some(CornerUvs {
         coords: mesh.positions.iter().map(|p| [p[0], p[1]]).collect(),
         corner_indices: mesh.face_indices.clone(),
     });
-    let scale = cgal::diagonal(&mesh);
+    let scale = crate::cgal::diagonal(&mesh);
     for rule in [
         FaceVaryingInterpolation::None,
         FaceVaryingInterpolation::CornersOnly,

@@ -2,8 +2,6 @@
 //! place (fixed seed) — and the locator must find each with the right kind and ids, and
 //! nothing on the clean originals.
 
-mod common;
-
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use surfkit::mesh::PolygonMesh;
@@ -39,7 +37,7 @@ fn random_shared_edge(faces: &[Vec<u32>], rng: &mut StdRng) -> (usize, usize, u3
 
 #[test]
 fn clean_originals_report_nothing() {
-    for (name, mesh) in common::sound_meshes(false) {
+    for (name, mesh) in crate::common::sound_meshes(false) {
         let report = scan(&mesh, &EatOptions::default()).unwrap();
         assert!(
             report.flaws.is_empty(),
@@ -52,10 +50,10 @@ fn clean_originals_report_nothing() {
 #[test]
 fn each_injected_flaw_is_found_with_its_kind_and_ids() {
     let mut rng = StdRng::seed_from_u64(20_200_228);
-    let meshes = common::sound_meshes(false);
+    let meshes = crate::common::sound_meshes(false);
     assert!(meshes.len() >= 4, "need several clean meshes");
     for (name, mesh) in &meshes {
-        let faces = common::faces_of(mesh);
+        let faces = crate::common::faces_of(mesh);
         let positions = mesh.positions.clone();
 
         // A facet left out: a missing triangle or quad (or a hole for larger facets).
@@ -264,7 +262,7 @@ fn each_injected_flaw_is_found_with_its_kind_and_ids() {
 fn loops_joined_at_a_non_manifold_edge_are_not_holes_to_fill() {
     // OpenSubdiv's test mesh: 100 quads on one edge. Walking their borders joins them in
     // pairs at the edge's ends; filling such a loop would put a 101st facet on the edge.
-    let path = common::meshes_dir().join("catmark_nonman_edge100.obj");
+    let path = crate::common::meshes_dir().join("catmark_nonman_edge100.obj");
     let mesh = surfkit::mesh::io::read(&path).unwrap();
     let mut report = scan(&mesh, &EatOptions::default()).unwrap();
     surfkit::repair::check_fixes(&mesh, &mut report.flaws, Default::default()).unwrap();

@@ -2,14 +2,12 @@
 //! stages end at χ = −1, 0, 1, 2 (§4.4), and each of the three flaws of §4.1–4.3 makes
 //! the stage it is drawn in fail, and is located.
 
-mod common;
-
 use surfkit::shapes::{stamp, StampFlaw};
 use surfkit::topology::{scan, EatReport, FlawKind};
 
 fn run(flaws: &[StampFlaw]) -> EatReport {
     let mesh = stamp(flaws);
-    scan(&mesh, &common::stamp_stages(&mesh)).unwrap()
+    scan(&mesh, &crate::common::stamp_stages(&mesh)).unwrap()
 }
 
 #[test]

@@ -16,7 +16,8 @@ use surfkit::mesh::PolygonMesh;
 pub fn program() -> &'static Path {
     static PROGRAM: OnceLock<PathBuf> = OnceLock::new();
     PROGRAM.get_or_init(|| {
-        let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/cgal/catmull_clark.cpp");
+        let source =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/subdiv/cgal/catmull_clark.cpp");
         let exe = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cgal_catmull_clark");
         let out = Command::new("c++")
             .args(["-std=c++17", "-O2", "-DNDEBUG", "-o"])

@@ -3,9 +3,6 @@
 //! the exported 16-point patches, derivatives against finite differences, coverage of the
 //! faces, the boundary rule `None`, and curvatures against a closed form.
 
-#[path = "cgal/mod.rs"]
-mod cgal;
-
 use surfkit::assert_near;
 use surfkit::mesh::io::read;
 use surfkit::mesh::PolygonMesh;
@@ -113,7 +110,7 @@ fn irregular_meshes() -> Vec<(&'static str, PolygonMesh)> {
         "target.obj",
     ]
     .into_iter()
-    .map(|name| (name, read(&cgal::fixture(name)).unwrap()))
+    .map(|name| (name, read(&crate::cgal::fixture(name)).unwrap()))
     .collect()
 }
 
@@ -286,7 +283,7 @@ fn coverage_of(s: &PatchSurface, ptex: u32) -> f64 {
 
 #[test]
 fn boundary_none_leaves_boundary_faces_without_limit_surface() {
-    let mesh = read(&cgal::fixture("catmark_nonquads.obj")).unwrap();
+    let mesh = read(&crate::cgal::fixture("catmark_nonquads.obj")).unwrap();
     let options = SubdivOptions {
         boundary: BoundaryInterpolation::None,
         ..Default::default()
@@ -467,12 +464,13 @@ fn every_fixture_gets_a_limit_surface_that_evaluates() {
     // Non-manifold edges and vertices, unreferenced vertices, duplicated faces: OpenSubdiv
     // builds patches where it can; whatever it builds must evaluate to finite values at the
     // centre of every patch, and no face may be covered twice.
-    let reference: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(cgal::fixture("REFERENCE.json")).unwrap())
-            .unwrap();
+    let reference: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(crate::cgal::fixture("REFERENCE.json")).unwrap(),
+    )
+    .unwrap();
     for entry in reference["meshes"].as_array().unwrap() {
         let name = entry["file"].as_str().unwrap();
-        let mesh = read(&cgal::fixture(name)).unwrap();
+        let mesh = read(&crate::cgal::fixture(name)).unwrap();
         let s = limit_surface(&mesh, &SubdivOptions::default(), &PatchOptions::default())
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         let points: Vec<SurfacePoint> = s
@@ -517,7 +515,7 @@ fn patch_weights_are_the_derivative_with_respect_to_control_vertices() {
     // The limit position is linear in the control vertices: moving vertex j by δ moves the
     // point at (s, t) of patch p by δ · Σ_k B_k(s, t) w_kj. Checked by moving each vertex
     // that patch p depends on and re-evaluating through OpenSubdiv.
-    let mesh = read(&cgal::fixture("catmark_nonquads.obj")).unwrap();
+    let mesh = read(&crate::cgal::fixture("catmark_nonquads.obj")).unwrap();
     let mut s = surface(&mesh);
     for p in [0usize, 5, 17, 40] {
         let patch = s.patches()[p];

@@ -1,8 +1,6 @@
 //! Round trips OBJ ↔ PLY ↔ OFF on the real meshes: positions bit-exact, faces, objects and
 //! groups exact; and the OBJ reader checked against tobj, an independent parser.
 
-mod common;
-
 use std::path::Path;
 
 use surfkit::mesh::io::{read_with, write, PlyEncoding, ReadOptions, WriteOptions};
@@ -61,7 +59,7 @@ fn through(mesh: &PolygonMesh, dir: &Path, name: &str, encoding: PlyEncoding) ->
 #[test]
 fn obj_ply_off_round_trips_are_exact_on_every_fixture() {
     let dir = tempfile::tempdir().unwrap();
-    for (path, _) in common::reference_meshes() {
+    for (path, _) in crate::common::reference_meshes() {
         let original = read_with(&path, &lenient()).unwrap();
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         let mut current = original.clone();
@@ -81,7 +79,7 @@ fn obj_ply_off_round_trips_are_exact_on_every_fixture() {
 
 #[test]
 fn uvs_quality_and_colours_survive_ply() {
-    let path = common::meshes_dir().join("spot.obj");
+    let path = crate::common::meshes_dir().join("spot.obj");
     let mut mesh = read_with(&path, &lenient()).unwrap();
     let uv = mesh.uvs.clone().expect("spot.obj has texture coordinates");
     mesh.quality = Some((0..mesh.vertex_count()).map(|i| i as f64 / 7.0).collect());
@@ -114,7 +112,7 @@ fn uvs_quality_and_colours_survive_ply() {
 
 #[test]
 fn obj_reader_agrees_with_tobj() {
-    for (path, _) in common::reference_meshes() {
+    for (path, _) in crate::common::reference_meshes() {
         if path.extension().unwrap() != "obj" {
             continue;
         }
