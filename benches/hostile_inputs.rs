@@ -3,8 +3,9 @@
 //! topological measures) in the same run. Inputs are generated into target/bench-data:
 //! one face of 400 000 corners (9 MB of OBJ), a cone fan of valence 1000 and one of a million
 //! triangles (every edge and vertex set at one vertex: 50 MB), a UV sphere of 256
-//! segments (poles of valence 256, 16 384 faces) and connected grids of 100 352 and 320 000
-//! triangles (every vertex extraordinary for Catmull–Clark).
+//! segments (poles of valence 256, 16 384 faces), connected grids of 100 352 and 320 000
+//! triangles (every vertex extraordinary for Catmull–Clark) and piles of 10 000 and 50 000
+//! degenerate triangles on one line, each with its own vertices (all coincident).
 //!
 //! `cargo bench --bench hostile_inputs`
 
@@ -84,6 +85,17 @@ fn uv_sphere(segments: usize, rings: usize) -> String {
     s
 }
 
+/// `n` degenerate triangles on one line, each with its own three vertices at x = 0, 1, 2:
+/// a pile of coincident boundary vertices on coincident edges (the crack search once listed
+/// every vertex of the pile on every edge of it).
+fn collinear_pile(n: usize) -> String {
+    let mut s = "v 0 0 0\nv 1 0 0\nv 2 0 0\n".repeat(n);
+    for i in 0..n {
+        writeln!(s, "f {} {} {}", 3 * i + 1, 3 * i + 2, 3 * i + 3).unwrap();
+    }
+    s
+}
+
 fn triangle_grid(m: usize) -> String {
     let mut s = String::new();
     for j in 0..=m {
@@ -138,6 +150,8 @@ fn main() {
     let sphere = write_once("hostile_uv_sphere_256.obj", || uv_sphere(256, 64));
     let grid = write_once("hostile_grid_100k_triangles.obj", || triangle_grid(224));
     let big_grid = write_once("hostile_grid_320k_triangles.obj", || triangle_grid(400));
+    let pile = write_once("hostile_collinear_pile_10k.obj", || collinear_pile(10_000));
+    let big_pile = write_once("hostile_collinear_pile_50k.obj", || collinear_pile(50_000));
     let out = support::data_dir().join("hostile_out.ply");
     let o = out.to_str().unwrap();
     println!("hostile inputs, whole surfkit processes (bound: 10 s on inputs under 10 MB)");
@@ -171,6 +185,16 @@ fn main() {
         (
             "limit, UV sphere 256 segments".into(),
             vec!["limit", sphere.to_str().unwrap(), "-o", o],
+            None,
+        ),
+        (
+            "eat, pile of 10k collinear triangles".into(),
+            vec!["eat", pile.to_str().unwrap()],
+            Some(&pile),
+        ),
+        (
+            "eat, pile of 50k collinear triangles".into(),
+            vec!["eat", big_pile.to_str().unwrap()],
             None,
         ),
         (

@@ -5,7 +5,8 @@
 //! the others are kept.
 //!
 //! Exit status: 0 when every file was scanned and verified, 3 when some file failed its
-//! test points or has a `--fail-on` flaw, 1 when some file could not be scanned.
+//! test points or has a `--fail-on` flaw, 1 when some file could not be scanned or a folder
+//! holds no mesh file (then nothing is scanned).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -19,7 +20,8 @@ use crate::error::{Error, Result};
 use crate::topology::{EatReport, FlawKind};
 
 /// The mesh files named on the command line: files as given, folders searched
-/// recursively for .obj, .ply and .off (in path order).
+/// recursively for .obj, .ply and .off (in path order). A folder that holds none is an
+/// error: there is nothing in it to check, and a pipeline must not read that as a pass.
 fn mesh_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     for input in inputs {
@@ -42,6 +44,13 @@ fn mesh_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>> {
             if entry.file_type().is_file() && is_mesh {
                 found.push(entry.into_path());
             }
+        }
+        if found.is_empty() {
+            return Err(Error::InvalidInput(format!(
+                "{}: no mesh file to check: the folder and its subfolders hold no .obj, .ply or \
+                 .off file (extensions in any case)",
+                input.display()
+            )));
         }
         found.sort();
         files.extend(found);

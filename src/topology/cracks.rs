@@ -124,6 +124,172 @@ impl VertexGrid {
     }
 }
 
+/// Boundary vertices grouped by position (equal coordinates, bit for bit). The vertices of a
+/// group lie on the same edges at the same parameter, so an edge's candidates are sought
+/// among positions first: a pile of coincident vertices is one position to test.
+struct PositionGroups<'a> {
+    /// The boundary vertices, sorted, and the group of each.
+    vertices: &'a [u32],
+    group: Vec<u32>,
+    /// The coordinates of each group.
+    at: Vec<[f64; 3]>,
+}
+
+impl<'a> PositionGroups<'a> {
+    fn new(vertices: &'a [u32], positions: &[[f64; 3]]) -> Self {
+        let mut index: FxHashMap<[u64; 3], u32> = FxHashMap::with_capacity(vertices.len());
+        let mut at = Vec::new();
+        let group = vertices
+            .iter()
+            .map(|&v| {
+                let p = positions[v as usize];
+                *index.entry(p.map(f64::to_bits)).or_insert_with(|| {
+                    at.push(p);
+                    (at.len() - 1) as u32
+                })
+            })
+            .collect();
+        PositionGroups {
+            vertices,
+            group,
+            at,
+        }
+    }
+
+    /// The group of boundary vertex `v`.
+    fn of(&self, v: u32) -> u32 {
+        self.group[self.vertices.partition_point(|&u| u < v)]
+    }
+}
+
+/// Whether `hit(i)` holds for an index i of `sorted` (ordered by `key`) whose key is in
+/// `keys` (sorted): walks the shorter of the two lists and searches the other.
+fn any_keyed_in<T>(
+    sorted: &[T],
+    key: impl Fn(&T) -> u32,
+    keys: &[u32],
+    mut hit: impl FnMut(usize) -> bool,
+) -> bool {
+    if sorted.len() <= keys.len() {
+        (0..sorted.len()).any(|i| keys.binary_search(&key(&sorted[i])).is_ok() && hit(i))
+    } else {
+        keys.iter().any(|&k| {
+            let from = sorted.partition_point(|x| key(x) < k);
+            (from..sorted.len())
+                .take_while(|&i| key(&sorted[i]) == k)
+                .any(&mut hit)
+        })
+    }
+}
+
+/// The boundary edges by position group, to tell without listing an edge's candidates
+/// whether one of them could be confirmed as a T-vertex of it. A confirmed T-vertex has a
+/// boundary edge to a neighbour in the edge's chain (an end of the edge or another
+/// candidate: glued), and the facet on the edge does not use it.
+struct Joins {
+    /// Per group p, the groups q joined to it by a boundary edge, sorted:
+    /// `pair_q[group_start[p]..group_start[p + 1]]`; per such pair i, the vertices of p on
+    /// such an edge: `pair_v[pair_start[i]..pair_start[i + 1]]`.
+    group_start: Vec<u32>,
+    pair_q: Vec<u32>,
+    pair_start: Vec<u32>,
+    pair_v: Vec<u32>,
+    /// Every boundary vertex's neighbours along boundary edges as (vertex, group of the
+    /// neighbour, neighbour), sorted.
+    neighbours: Vec<(u32, u32, u32)>,
+}
+
+impl Joins {
+    /// From the walks' edges (a, b).
+    fn new(edges: &[(u32, u32)], groups: &PositionGroups) -> Self {
+        let mut boundary: Vec<(u32, u32)> = edges.iter().map(|&(a, b)| undirected(a, b)).collect();
+        boundary.sort_unstable();
+        boundary.dedup();
+        let mut triples: Vec<(u32, u32, u32)> = Vec::with_capacity(2 * boundary.len());
+        let mut neighbours: Vec<(u32, u32, u32)> = Vec::with_capacity(2 * boundary.len());
+        for &(x, y) in &boundary {
+            let (gx, gy) = (groups.of(x), groups.of(y));
+            for (v, gv, u, gu) in [(x, gx, y, gy), (y, gy, x, gx)] {
+                triples.push((gv, gu, v));
+                neighbours.push((v, gu, u));
+            }
+        }
+        triples.sort_unstable();
+        triples.dedup();
+        neighbours.sort_unstable();
+        neighbours.dedup();
+        let mut group_start = vec![0u32; groups.at.len() + 1];
+        let (mut pair_q, mut pair_start, mut pair_v) = (Vec::new(), Vec::new(), Vec::new());
+        let mut last = None;
+        for &(p, q, v) in &triples {
+            if last != Some((p, q)) {
+                group_start[p as usize + 1] += 1;
+                pair_q.push(q);
+                pair_start.push(pair_v.len() as u32);
+                last = Some((p, q));
+            }
+            pair_v.push(v);
+        }
+        pair_start.push(pair_v.len() as u32);
+        for p in 0..groups.at.len() {
+            group_start[p + 1] += group_start[p];
+        }
+        Joins {
+            group_start,
+            pair_q,
+            pair_start,
+            pair_v,
+            neighbours,
+        }
+    }
+
+    /// The neighbours of `v` along boundary edges, as (v, group, neighbour), by group.
+    fn neighbours_of(&self, v: u32) -> &[(u32, u32, u32)] {
+        let from = self.neighbours.partition_point(|x| x.0 < v);
+        let to = from + self.neighbours[from..].partition_point(|x| x.0 == v);
+        &self.neighbours[from..to]
+    }
+
+    /// Whether boundary edge a–b, whose candidates are the vertices of the groups `on`
+    /// (sorted), may have a confirmed T-vertex: false only where none can, because no
+    /// candidate that the edge's facet does not use is joined by a boundary edge to a, to b
+    /// or to another candidate.
+    fn may_confirm(
+        &self,
+        a: u32,
+        b: u32,
+        on: &[u32],
+        facet_uses: &impl Fn(u32, u32, u32) -> bool,
+    ) -> bool {
+        let free = |v: u32| !facet_uses(a, b, v);
+        let to_an_end = [a, b].iter().any(|&end| {
+            let list = self.neighbours_of(end);
+            any_keyed_in(list, |x| x.1, on, |i| free(list[i].2))
+        });
+        to_an_end
+            || on.iter().any(|&p| {
+                let (from, to) = (
+                    self.group_start[p as usize] as usize,
+                    self.group_start[p as usize + 1] as usize,
+                );
+                let joined = &self.pair_q[from..to];
+                any_keyed_in(
+                    joined,
+                    |&q| q,
+                    on,
+                    |i| {
+                        let pair = from + i;
+                        let (s, e) = (
+                            self.pair_start[pair] as usize,
+                            self.pair_start[pair + 1] as usize,
+                        );
+                        self.pair_v[s..e].iter().any(|&v| free(v))
+                    },
+                )
+            })
+    }
+}
+
 /// Median of the boundary edges' lengths (0 for none).
 fn median_length(edges: &[(u32, u32)], positions: &[[f64; 3]]) -> f64 {
     let mut lengths: Vec<f64> = edges
@@ -144,11 +310,21 @@ type EdgeKey = (usize, usize);
 type OnEdge = (f64, u32, f64);
 
 /// Candidate T-junctions: per boundary edge (walk, position in walk), the boundary vertices
-/// within `tolerance` × its length of it, with their parameters along it.
+/// within `tolerance` × its length of it, with their parameters along it — on the edges
+/// where one of them may be confirmed. A candidate is confirmed only where it is glued to a
+/// neighbour in the edge's chain and the edge's facet does not use it; an edge without a
+/// candidate that could be both is left out, as [`stitch_found`] would confirm nothing on
+/// it (and what it confirms elsewhere does not depend on it).
+///
+/// The edges are first tested against the positions of the boundary vertices, then listed
+/// vertex by vertex only where [`Joins::may_confirm`] allows a confirmed T-vertex: thousands
+/// of coincident boundary vertices on thousands of coincident edges (a pile of degenerate
+/// facets) cost a test per edge, not a candidate per vertex and edge.
 fn candidates(
     walks: &[Vec<u32>],
     positions: &[[f64; 3]],
     tolerance: f64,
+    facet_uses: &impl Fn(u32, u32, u32) -> bool,
 ) -> FxHashMap<EdgeKey, Vec<OnEdge>> {
     let mut found = FxHashMap::new();
     let edges: Vec<(u32, u32)> = walks
@@ -162,13 +338,38 @@ fn candidates(
     let mut vertices: Vec<u32> = walks.iter().flatten().copied().collect();
     vertices.sort_unstable();
     vertices.dedup();
-    let grid = VertexGrid::new(&vertices, positions, cell);
-    let mut near = Vec::new();
+    let groups = PositionGroups::new(&vertices, positions);
+    let group_ids: Vec<u32> = (0..groups.at.len() as u32).collect();
+    // The same cells as the vertices' grid below, so the same positions come near an edge.
+    let group_grid = VertexGrid::new(&group_ids, &groups.at, cell);
+    // Both built at the first edge that needs them (most meshes have no candidate at all).
+    let mut joins: Option<Joins> = None;
+    let mut vertex_grid: Option<VertexGrid> = None;
+    let (mut near, mut on_groups) = (Vec::new(), Vec::new());
     for (w, walk) in walks.iter().enumerate() {
         for k in 0..walk.len() {
             let (a, b) = (walk[k], walk[(k + 1) % walk.len()]);
             let (pa, pb) = (positions[a as usize], positions[b as usize]);
             let reach = tolerance * distance(pa, pb);
+            // The positions on the edge: a vertex is a candidate exactly where its position
+            // is (the edge's ends are never, being within `reach` of themselves).
+            group_grid.near_segment(pa, pb, reach, &mut near);
+            on_groups.clear();
+            on_groups.extend(
+                near.iter()
+                    .copied()
+                    .filter(|&g| foot_on_segment(groups.at[g as usize], pa, pb, reach).is_some()),
+            );
+            if on_groups.is_empty() {
+                continue;
+            }
+            on_groups.sort_unstable();
+            let built = joins.get_or_insert_with(|| Joins::new(&edges, &groups));
+            if !built.may_confirm(a, b, &on_groups, facet_uses) {
+                continue;
+            }
+            let grid =
+                vertex_grid.get_or_insert_with(|| VertexGrid::new(&vertices, positions, cell));
             grid.near_segment(pa, pb, reach, &mut near);
             let mut on: Vec<OnEdge> = near
                 .iter()
@@ -277,14 +478,32 @@ pub fn stitch_cracks(
     tolerance: f64,
     facet_uses: impl Fn(u32, u32, u32) -> bool,
 ) -> Stitched {
+    let found = candidates(walks, positions, tolerance, &facet_uses);
+    stitch_found(walks, &found, facet_uses)
+}
+
+/// The undirected edges of the walks.
+fn boundary_edges(walks: &[Vec<u32>]) -> foldhash::HashSet<(u32, u32)> {
+    walks
+        .iter()
+        .flat_map(|w| (0..w.len()).map(move |k| undirected(w[k], w[(k + 1) % w.len()])))
+        .collect()
+}
+
+/// [`stitch_cracks`] once the candidates are `found`.
+fn stitch_found(
+    walks: &[Vec<u32>],
+    found: &FxHashMap<EdgeKey, Vec<OnEdge>>,
+    facet_uses: impl Fn(u32, u32, u32) -> bool,
+) -> Stitched {
     let mut stitched_walk = vec![false; walks.len()];
-    let found = candidates(walks, positions, tolerance);
     if found.is_empty() {
         return Stitched {
             stitched_walk,
             ..Default::default()
         };
     }
+    let boundary = boundary_edges(walks);
     let mut walk_of_vertex: FxHashMap<u32, Vec<usize>> = FxHashMap::new();
     for (w, walk) in walks.iter().enumerate() {
         for &v in walk {
@@ -307,10 +526,6 @@ pub fn stitch_cracks(
     // where one of its two pieces of the split edge is already a boundary edge (the other
     // side of the crack). A vertex that counts on several edges (collinear borders) is
     // kept on the one whose split glues most pieces, then the one it is closest to.
-    let boundary: foldhash::HashSet<(u32, u32)> = walks
-        .iter()
-        .flat_map(|w| (0..w.len()).map(move |k| undirected(w[k], w[(k + 1) % w.len()])))
-        .collect();
     let mut keys: Vec<EdgeKey> = found.keys().copied().collect();
     keys.sort_unstable();
     // Per vertex: (glued pieces, offset) of the best edge so far, and that edge.
@@ -382,6 +597,122 @@ pub fn stitch_cracks(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::rngs::StdRng;
+    use rand::{Rng, SeedableRng};
+
+    /// The candidates as first written: every vertex near every edge, listed (quadratic on
+    /// piles of coincident vertices) — the oracle the filtered search must agree with.
+    fn candidates_by_listing(
+        walks: &[Vec<u32>],
+        positions: &[[f64; 3]],
+        tolerance: f64,
+    ) -> FxHashMap<EdgeKey, Vec<OnEdge>> {
+        let mut found = FxHashMap::new();
+        let edges: Vec<(u32, u32)> = walks
+            .iter()
+            .flat_map(|w| (0..w.len()).map(move |k| (w[k], w[(k + 1) % w.len()])))
+            .collect();
+        let cell = median_length(&edges, positions);
+        if cell.is_nan() || cell <= 0.0 || tolerance <= 0.0 {
+            return found;
+        }
+        let mut vertices: Vec<u32> = walks.iter().flatten().copied().collect();
+        vertices.sort_unstable();
+        vertices.dedup();
+        let grid = VertexGrid::new(&vertices, positions, cell);
+        let mut near = Vec::new();
+        for (w, walk) in walks.iter().enumerate() {
+            for k in 0..walk.len() {
+                let (a, b) = (walk[k], walk[(k + 1) % walk.len()]);
+                let (pa, pb) = (positions[a as usize], positions[b as usize]);
+                let reach = tolerance * distance(pa, pb);
+                grid.near_segment(pa, pb, reach, &mut near);
+                let mut on: Vec<OnEdge> = near
+                    .iter()
+                    .filter(|&&v| v != a && v != b)
+                    .filter_map(|&v| {
+                        foot_on_segment(positions[v as usize], pa, pb, reach)
+                            .map(|(t, off)| (t, v, off / distance(pa, pb)))
+                    })
+                    .collect();
+                if !on.is_empty() {
+                    on.sort_by(|x, y| x.0.total_cmp(&y.0));
+                    on.dedup_by_key(|x| x.1);
+                    found.insert((w, k), on);
+                }
+            }
+        }
+        found
+    }
+
+    /// Walks of 3 to 6 vertices on a small lattice of points (on lines, at midpoints, a
+    /// hair off them), many vertices coincident: T-junctions, piles and ties everywhere.
+    /// `facet_uses` as if each walk were the border of one facet.
+    #[test]
+    fn the_filtered_search_stitches_what_listing_every_candidate_stitches() {
+        let mut rng = StdRng::seed_from_u64(0xc4ac);
+        let (mut junctions, mut ties, mut left_out) = (0, 0, 0);
+        for case in 0..3000 {
+            let points: Vec<[f64; 3]> = (0..rng.random_range(3..12))
+                .map(|_| {
+                    let hair = if rng.random_bool(0.2) { 0.003 } else { 0.0 };
+                    [
+                        f64::from(rng.random_range(0..5u8)) * 0.5,
+                        f64::from(rng.random_range(0..3u8)) + hair,
+                        if rng.random_bool(0.1) { 1.0 } else { 0.0 },
+                    ]
+                })
+                .collect();
+            let positions: Vec<[f64; 3]> = (0..rng.random_range(4..40))
+                .map(|_| points[rng.random_range(0..points.len())])
+                .collect();
+            let n = positions.len() as u32;
+            let walks: Vec<Vec<u32>> = (0..rng.random_range(1..12))
+                .map(|_| {
+                    let len = rng.random_range(3..7usize).min(n as usize);
+                    let mut walk: Vec<u32> = Vec::new();
+                    while walk.len() < len {
+                        let v = rng.random_range(0..n);
+                        if !walk.contains(&v) {
+                            walk.push(v);
+                        }
+                    }
+                    walk
+                })
+                .collect();
+            let facet_uses = |a: u32, b: u32, t: u32| {
+                walks.iter().any(|w| {
+                    let m = w.len();
+                    w.contains(&t)
+                        && (0..m).any(|k| undirected(w[k], w[(k + 1) % m]) == undirected(a, b))
+                })
+            };
+            for tolerance in [0.01, 0.2] {
+                let listed = candidates_by_listing(&walks, &positions, tolerance);
+                let filtered = candidates(&walks, &positions, tolerance, &facet_uses);
+                // The filtered edges are listed exactly as before; only edges are left out.
+                for (key, on) in &filtered {
+                    assert_eq!(Some(on), listed.get(key), "case {case}");
+                }
+                left_out += listed.len() - filtered.len();
+                ties += listed
+                    .values()
+                    .filter(|on| on.windows(2).any(|w| w[0].0 == w[1].0))
+                    .count();
+                let old = stitch_found(&walks, &listed, facet_uses);
+                let new = stitch_cracks(&walks, &positions, tolerance, facet_uses);
+                assert_eq!(new.junctions, old.junctions, "case {case}");
+                assert_eq!(new.remaining, old.remaining, "case {case}");
+                assert_eq!(new.stitched_walk, old.stitched_walk, "case {case}");
+                junctions += new.junctions.len();
+            }
+        }
+        // The cases exercise what they are for.
+        assert!(
+            junctions > 1000 && ties > 1000 && left_out > 1000,
+            "{junctions} junctions, {ties} ties, {left_out} edges left out"
+        );
+    }
 
     /// Fig. 22 as a loop: edge 1–0 of one facet, 0–2–1 of two others, 2 at its middle.
     #[test]

@@ -123,3 +123,41 @@ fn exit_status_says_whether_every_file_passed() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--mark"));
 }
+
+#[test]
+fn a_folder_without_mesh_files_is_an_error_naming_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let empty = dir.path().join("empty");
+    let only_notes = dir.path().join("notes");
+    std::fs::create_dir(&empty).unwrap();
+    std::fs::create_dir_all(only_notes.join("sub")).unwrap();
+    std::fs::write(only_notes.join("readme.txt"), "not a mesh\n").unwrap();
+    std::fs::write(only_notes.join("sub").join("mesh.obj.bak"), "v 0 0 0\n").unwrap();
+    let spot = dir.path().join("spot.obj");
+    std::fs::copy(common::meshes_dir().join("spot.obj"), &spot).unwrap();
+    for (args, folder) in [
+        (vec![empty.as_path()], &empty),
+        (vec![only_notes.as_path()], &only_notes),
+        // With a good file beside it: the empty folder is still an error, and nothing is
+        // scanned (no line for spot.obj).
+        (vec![spot.as_path(), empty.as_path()], &empty),
+    ] {
+        for jsonl in [false, true] {
+            let out = surfkit()
+                .arg("eat")
+                .args(&args)
+                .args(if jsonl { &["--jsonl"][..] } else { &[][..] })
+                .output()
+                .unwrap();
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(1), "{args:?} jsonl {jsonl}: {err}");
+            assert!(
+                err.contains(&folder.display().to_string())
+                    && err.contains("no mesh file")
+                    && err.contains(".obj, .ply or .off"),
+                "{err}"
+            );
+            assert!(out.stdout.is_empty(), "nothing scanned");
+        }
+    }
+}

@@ -467,3 +467,91 @@ fn boundary_loops(report: &surfkit::topology::EatReport) -> Vec<&surfkit::topolo
         .filter(|f| f.kind.is_boundary_loop())
         .collect()
 }
+
+/// A pile of `n` coincident degenerate triangles on one line — each with its own three
+/// vertices at x = 0, 1, 2 — and, when `crack`, a crack on that line beside it: triangle
+/// (0,0) (2,0) (1,1) over triangles (2,0) (1,0) (1,−1) and (1,0) (0,0) (1,−1), whose vertex
+/// at (1,0) lies on the first one's edge. Every vertex of the crack lies where n vertices
+/// of the pile do, and its edge where n edges of the pile do.
+fn pile(n: usize, crack: bool) -> PolygonMesh {
+    let mut positions = Vec::new();
+    let mut faces = Vec::new();
+    for i in 0..n as u32 {
+        positions.extend([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]);
+        faces.push(vec![3 * i, 3 * i + 1, 3 * i + 2]);
+    }
+    if crack {
+        let b = positions.len() as u32;
+        positions.extend([
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, -1.0, 0.0],
+        ]);
+        faces.extend([
+            vec![b, b + 1, b + 2],
+            vec![b + 1, b + 3, b + 4],
+            vec![b + 3, b, b + 4],
+        ]);
+    }
+    PolygonMesh::from_polygons(positions, &faces)
+}
+
+/// Thousands of coincident degenerate facets (the crack search once listed every vertex of
+/// the pile on every edge of it: quadratic) are no crack: each is an isolated facet, its
+/// own hole, and its vertices coincide with the pile's. A crack beside the pile is found,
+/// with nothing else of the pile taken for a T-vertex of it.
+#[test]
+fn a_pile_of_coincident_collinear_triangles_is_no_crack_and_one_beside_it_is_found() {
+    let n = 3000;
+    let report = scan(&pile(n, false), &EatOptions::default()).unwrap();
+    let s = &report.statistics;
+    assert_eq!(
+        (s.vertices, s.edges, s.facets, s.euler_characteristic),
+        (3 * n, 3 * n, n, n as i64)
+    );
+    assert_eq!(
+        report.flaw_counts(),
+        vec![
+            (FlawKind::Hole, n),
+            (FlawKind::CoincidentVertices, 3 * n - 3)
+        ]
+    );
+
+    let report = scan(&pile(n, true), &EatOptions::default()).unwrap();
+    let cracks: Vec<_> = report
+        .flaws
+        .iter()
+        .filter(|f| f.kind == FlawKind::Crack)
+        .collect();
+    assert_eq!(cracks.len(), 1, "{:?}", report.flaw_counts());
+    let b = 3 * n as u32;
+    let mut edge = cracks[0].vertices[..2].to_vec();
+    edge.sort_unstable();
+    assert_eq!(
+        edge,
+        vec![b, b + 1],
+        "the crack's edge: the top triangle's base"
+    );
+    assert_eq!(
+        cracks[0].vertices[2..],
+        [b + 3],
+        "its T-vertex: the split at (1, 0)"
+    );
+    // Once stitched, the border of the three triangles is one loop of four edges; the pile
+    // keeps its n holes, and the crack's five vertices add three coincidences (at x = 0,
+    // 1, 2).
+    let loops = loops_of(&report);
+    let border: Vec<_> = loops.iter().filter(|(_, v)| v.contains(&(b + 2))).collect();
+    assert_eq!(border.len(), 1);
+    assert_eq!(border[0].1, vec![b, b + 1, b + 2, b + 4]);
+    assert_eq!(loops.len(), n + 1);
+    assert_eq!(
+        report
+            .flaw_counts()
+            .iter()
+            .find(|k| k.0 == FlawKind::CoincidentVertices),
+        Some(&(FlawKind::CoincidentVertices, 3 * n))
+    );
+}

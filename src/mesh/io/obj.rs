@@ -1,6 +1,14 @@
 //! Wavefront OBJ: `v` (with MeshLab's optional `r g b`), `vt`, `f` (polygons kept,
 //! negative indices relative), `o` and `g` kept as face labels.
 //!
+//! Comments: a `#` that begins a word starts a comment to the end of the line, on a line of
+//! its own or after a record (`v 1 2 3 # corner`, `f 1 2 3 # lid`). OpenMesh's reader reads
+//! the same meshes from such lines (it takes a vertex's first three numbers and skips the
+//! words of a face that are not indices); MeshLab's (vcglib's `import_obj.h`) takes a
+//! vertex's first three numbers too, but reads every word of an `f` line as a corner, the
+//! comment's as well (`atoi("#")` is 0, no OBJ index) — a misreading, not copied here. A `#`
+//! inside a word (`g part#2`) stays part of it. (tobj refuses the two lines above.)
+//!
 //! Why not `tobj`, which the design names: tobj re-indexes vertices per model, so vertices
 //! shared between two `o`/`g` groups are duplicated and unreferenced vertices are dropped.
 //! Both change V, E and χ — the very numbers the Euler test checks — and tobj's errors carry
@@ -11,7 +19,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::face_check::{degeneracy_as_written, out_of_range};
-use super::text::{parse_f64, parse_i64, show, tokens, write_f64, Lines};
+use super::text::{parse_f64, parse_i64, show, strip_word_comment, tokens, write_f64, Lines};
 use super::ReadOptions;
 use crate::error::{Error, Location, Result};
 use crate::mesh::SharpFeatures;
@@ -72,9 +80,18 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             }
             line = &joined;
         }
-        let mut toks = tokens(line);
-        let Some(keyword) = toks.next() else { continue };
-        if keyword.starts_with(b"#") || OBJ_KEYWORDS.contains(&keyword) {
+        // A comment runs from a `#` that begins a word to the end of the line, after a
+        // record as on a line of its own (`v 1 2 3 # corner`).
+        let data = strip_word_comment(line);
+        let mut toks = tokens(data);
+        let Some(keyword) = toks.next() else {
+            // A comment line (no record before its `#`) is part of OBJ too.
+            if tokens(line).next().is_some() {
+                known_records += 1;
+            }
+            continue;
+        };
+        if OBJ_KEYWORDS.contains(&keyword) {
             known_records += 1;
         } else {
             // An unknown record is skipped, but not binary data: OBJ is text.
@@ -93,7 +110,7 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
             }
         }
         match keyword {
-            b"v" => read_vertex(&mut b, toks, number).map_err(|m| err(number, why(line, m)))?,
+            b"v" => read_vertex(&mut b, toks, number).map_err(|m| err(number, why(data, m)))?,
             b"vt" => {
                 let u = toks.next().and_then(parse_f64);
                 let v = toks.next().map_or(Some(0.0), parse_f64);
@@ -105,22 +122,22 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                         return Err(err(
                             number,
                             why(
-                                line,
+                                data,
                                 format!(
                                     "texture coordinate is not two finite numbers: {:?}",
-                                    show(line)
+                                    show(data)
                                 ),
                             ),
                         ))
                     }
                 }
             }
-            b"f" => read_face(&mut b, toks, number).map_err(|m| err(number, why(line, m)))?,
-            b"t" => read_tag(&mut b, toks, number).map_err(|m| err(number, why(line, m)))?,
+            b"f" => read_face(&mut b, toks, number).map_err(|m| err(number, why(data, m)))?,
+            b"t" => read_tag(&mut b, toks, number).map_err(|m| err(number, why(data, m)))?,
             b"o" | b"g" => {
                 // The name is the rest of the record after the keyword.
-                let name = std::str::from_utf8(line.trim_ascii_start()[1..].trim_ascii())
-                    .map_err(|e| err(number, non_utf8(line, e)))?;
+                let name = std::str::from_utf8(data.trim_ascii_start()[1..].trim_ascii())
+                    .map_err(|e| err(number, non_utf8(data, e)))?;
                 let (labels, ids, current) = if keyword == b"o" {
                     (&mut b.objects, &mut b.label_ids[0], &mut b.current_object)
                 } else {
@@ -553,6 +570,63 @@ mod tests {
     fn group_name_after_leading_blanks() {
         let mesh = read(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n  g  side  \nf 1 2 3\n").unwrap();
         assert_eq!(mesh.groups.unwrap().names, vec!["side".to_string()]);
+    }
+
+    #[test]
+    fn inline_comments_end_every_record() {
+        let mesh = read(
+            b"# a quad and a triangle\n\
+              v 0 0 0 # origin\n\
+              v 1 0 0\t#x\n\
+              v 1 1 0 # 7 8 9 (numbers in a comment are no colour)\n\
+              v 0 1 0 #\n\
+              vt 0 0 # uv\nvt 1 0\nvt 1 1\nvt 0 1\n\
+              g part#2 # the left part\n\
+              f 1/1 2/2 3/3 4/4 # the quad\n\
+              o lid # top\n\
+              f 1/1 3/3 4/4 #tri\n\
+              t crease 2/1/0 0 2 1.5 # sharp\n",
+        )
+        .unwrap();
+        assert_eq!(
+            mesh.positions,
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0]
+            ]
+        );
+        assert!(mesh.colors.is_none());
+        assert_eq!(mesh.face_offsets, vec![0, 4, 7]);
+        assert_eq!(mesh.face_indices, vec![0, 1, 2, 3, 0, 2, 3]);
+        assert_eq!(mesh.uvs.unwrap().coords.len(), 4);
+        assert_eq!(mesh.groups.unwrap().names, vec!["part#2".to_string()]);
+        assert_eq!(mesh.objects.unwrap().names, vec!["lid".to_string()]);
+        assert_eq!(mesh.sharp_features.unwrap().creases, vec![([0, 2], 1.5)]);
+    }
+
+    #[test]
+    fn garbage_after_a_record_is_still_refused() {
+        let quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+        for (line, message) in [
+            (
+                "f 1 2 3 x # tri",
+                "t.obj: line 5: \"x\" is not a vertex index",
+            ),
+            (
+                "f 1 2 3#tri",
+                "t.obj: line 5: \"3#tri\" is not a vertex index",
+            ),
+            ("v 1 2 3#c", "t.obj: line 5: \"3#c\" is not a number"),
+            (
+                "v 1 2 # 3",
+                "t.obj: line 5: a vertex needs 3 coordinates, found 2",
+            ),
+        ] {
+            let e = read(format!("{quad}{line}\n").as_bytes()).unwrap_err();
+            assert_eq!(e.to_string(), message, "{line}");
+        }
     }
 
     #[test]

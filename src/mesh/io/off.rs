@@ -307,6 +307,43 @@ pub fn write(out: &mut dyn Write, mesh: &PolygonMesh) -> std::io::Result<()> {
 mod tests {
     use super::*;
 
+    fn read(bytes: &[u8]) -> Result<PolygonMesh> {
+        parse(Path::new("t.off"), bytes, &ReadOptions::default())
+    }
+
+    /// Geomview's OFF: "everything after '#' on a line" is a comment, on any line.
+    #[test]
+    fn inline_comments_end_every_line() {
+        let mesh = read(
+            b"OFF # a square\n4 2 0 # counts\n\
+              0 0 0 # origin\n1 0 0#x\n1 1 0\t# 7 8 9\n0 1 0 #\n\
+              3 0 1 2 # tri\n3 0 2 3#tri\n",
+        )
+        .unwrap();
+        assert_eq!(
+            mesh.positions,
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0]
+            ]
+        );
+        assert_eq!(mesh.face_indices, vec![0, 1, 2, 0, 2, 3]);
+        assert!(mesh.colors.is_none());
+        // A coloured OFF: the comment is no part of the colour.
+        let mesh =
+            read(b"COFF\n3 1 0\n0 0 0 255 0 0 # red\n1 0 0 0 255 0\n0 1 0 0 0 255\n3 0 1 2\n")
+                .unwrap();
+        assert_eq!(mesh.colors.unwrap()[0], [255, 0, 0, 255]);
+        // Garbage that is no comment is still named.
+        let e = read(b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 x # tri\n").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "t.off: line 6: face 0: unexpected \"x\" after the corners"
+        );
+    }
+
     #[test]
     fn huge_counts_do_not_size_allocations() {
         let e = parse(

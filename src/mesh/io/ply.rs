@@ -417,9 +417,15 @@ impl<'a> Body<'a> {
                 element,
                 index,
                 format!(
-                    "more values than the header declares for {} (extra {:?})",
+                    "more values than the header declares for {} (extra {:?}){}",
                     element.name,
-                    show(extra)
+                    show(extra),
+                    // OBJ and OFF have `#` comments; PLY has them only in its header.
+                    if extra.starts_with(b"#") {
+                        "; PLY has no comments after its header (only `comment` header lines)"
+                    } else {
+                        ""
+                    }
                 ),
             ));
         }
@@ -1182,6 +1188,25 @@ mod tests {
             (
                 Location::Line(9),
                 "vertex 0: colour value NaN is not finite".into()
+            )
+        );
+    }
+
+    /// PLY's comments are `comment` header lines (Turk's specification): the data have no
+    /// comment syntax, so a `#` there is refused, with the reason.
+    #[test]
+    fn a_comment_in_ascii_data_is_refused_with_the_reason() {
+        let text = format!(
+            "ply\nformat ascii 1.0\ncomment fine here\nelement vertex 3\n{XYZ}end_header\n\
+             0 0 0 # origin\n1 0 0\n0 1 0\n"
+        );
+        assert_eq!(
+            message(text.as_bytes()),
+            (
+                Location::Line(9),
+                "vertex 0: more values than the header declares for vertex (extra \"#\"); PLY \
+                 has no comments after its header (only `comment` header lines)"
+                    .into()
             )
         );
     }

@@ -57,6 +57,15 @@ pub fn strip_comment(line: &[u8]) -> &[u8] {
     }
 }
 
+/// `line` up to (not including) a `#` that begins a word — at the start of the line or
+/// after white space — the comment of OBJ's records (`v 1 2 3 # corner`, `f 1 2 3 # lid`).
+/// A `#` inside a word (`g part#2`, `usemtl steel#4`) is part of the name, not a comment.
+pub fn strip_word_comment(line: &[u8]) -> &[u8] {
+    memchr::memchr_iter(b'#', line)
+        .find(|&i| i == 0 || line[i - 1].is_ascii_whitespace())
+        .map_or(line, |i| &line[..i])
+}
+
 /// A token shown in an error message (lossy for non-UTF-8 bytes, shortened when long).
 pub fn show(token: &[u8]) -> String {
     let s = String::from_utf8_lossy(token);
@@ -116,6 +125,15 @@ mod tests {
             ]
         );
         assert_eq!(v, vec![(1, &b"a"[..]), (2, b"b"), (3, b""), (4, b"c")]);
+    }
+
+    #[test]
+    fn a_comment_starts_at_a_word_not_inside_one() {
+        assert_eq!(strip_word_comment(b"v 1 2 3 # corner"), b"v 1 2 3 ");
+        assert_eq!(strip_word_comment(b"f 1 2 3\t#lid"), b"f 1 2 3\t");
+        assert_eq!(strip_word_comment(b"# all comment"), b"");
+        assert_eq!(strip_word_comment(b"g part#2 # left"), b"g part#2 ");
+        assert_eq!(strip_word_comment(b"g part#2"), b"g part#2");
     }
 
     #[test]
