@@ -134,7 +134,7 @@ fn a_folder_without_mesh_files_is_an_error_naming_it() {
     std::fs::write(only_notes.join("readme.txt"), "not a mesh\n").unwrap();
     std::fs::write(only_notes.join("sub").join("mesh.obj.bak"), "v 0 0 0\n").unwrap();
     let spot = dir.path().join("spot.obj");
-    std::fs::copy(common::meshes_dir().join("spot.obj"), &spot).unwrap();
+    std::fs::copy(crate::common::meshes_dir().join("spot.obj"), &spot).unwrap();
     for (args, folder) in [
         (vec![empty.as_path()], &empty),
         (vec![only_notes.as_path()], &only_notes),
