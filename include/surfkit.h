@@ -3,10 +3,15 @@
  *
  * Conventions: every function returns an int status (SURFKIT_OK = 0, else SURFKIT_*) and
  * on failure surfkit_last_error() gives a message naming the element and the problem
- * (thread-local, valid until the next surfkit call on the thread). Handles are opaque,
- * created by surfkit_* producers, owned by the caller and freed once with their *_free
- * (null is ignored). Bulk data crosses as flat arrays: positions as doubles (x, y, z per
- * vertex), faces as offsets (face_count + 1, starting at 0) + vertex indices (uint32_t).
+ * (thread-local, valid until the next surfkit call on the thread). A failed call leaves
+ * every output it was given at its empty value, never at what an earlier call put there:
+ * handle and borrowed-pointer outputs NULL, counts and output structs zero (their pointers
+ * NULL), surfkit_registry_add_facet's facet UINT32_MAX, and the result arrays of
+ * surfkit_limit_evaluate, surfkit_limit_curvature and surfkit_spline_evaluate NaN (when
+ * their size is valid). Handles are opaque, created by surfkit_* producers, owned by the
+ * caller and freed once with their *_free (null is ignored). Bulk data crosses as flat
+ * arrays: positions as doubles (x, y, z per vertex), faces as offsets (face_count + 1,
+ * starting at 0) + vertex indices (uint32_t).
  * Borrowed pointers returned by accessors live as long as the handle they came from.
  * No call aborts the process: panics are caught and reported as SURFKIT_INTERNAL.
  */
@@ -695,7 +700,7 @@ int surfkit_fit(const double *uv,
 /*
  Evaluates σ (the filled surface where there is a hole, else the smoothing spline) at
  `count` parameter points `uv` into `xyz` (3 per point). Points outside the data's
- parameter rectangle are an error naming the point.
+ parameter rectangle are an error naming the point; on any failure `xyz` is all NaN.
 
  # Safety
  `spline` a live handle; `uv` of `2 · count`, `xyz` of `3 · count` doubles.
@@ -824,7 +829,7 @@ int surfkit_registry_set_vertex_count(struct SurfkitRegistry *registry, uint32_t
 /*
  Registers one facet (`corner_count` vertex ids, any arity ≥ 1); `input_id` is how the
  caller names it in reports (a face handle's index, say). `facet` (may be null) receives
- its position in the registry's Facet list. The registry keeps an item per vertex id up to
+ its position in the registry's Facet list, or `UINT32_MAX` when the call fails. The registry keeps an item per vertex id up to
  the largest (20 bytes each): an id whose items would pass the memory limit
  (`surfkit_set_max_memory`) is refused with `SURFKIT_RESOURCE_LIMIT`, naming the id and
  the memory, and nothing is registered.
@@ -940,7 +945,7 @@ int surfkit_limit_ptex_faces(const struct SurfkitLimit *limit,
 /*
  Evaluates `count` points (ptex face, u, v): `derivatives` receives 30 doubles per
  point — position, S_u, S_v, S_uu, S_uv, S_vv, S_uuu, S_uuv, S_uvv, S_vvv (x, y, z each),
- with respect to the ptex face's (u, v).
+ with respect to the ptex face's (u, v). On any failure `derivatives` is all NaN.
 
  # Safety
  `limit` must be a live handle; input arrays of `count` elements; `derivatives` of
@@ -957,7 +962,8 @@ int surfkit_limit_evaluate(const struct SurfkitLimit *limit,
  Unit normals (3 per point) and mean, Gaussian and principal curvatures (k1 ≥ k2) at
  `count` points; any output may be null. Signs: the normal is S_u × S_v normalized, and
  curvature is positive where the surface bends towards it. A point without a normal
- (vanishing tangents) is an error naming the point.
+ (vanishing tangents) is an error naming the point. On any failure the non-null outputs
+ are all NaN.
 
  # Safety
  `limit` must be a live handle; inputs of `count` elements; non-null outputs of

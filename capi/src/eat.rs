@@ -11,7 +11,7 @@ use surfkit::topology::{
 use surfkit::repair::check_fixes;
 
 use crate::mesh::SurfkitMesh;
-use crate::pointers::{give, output, reference, slice, take};
+use crate::pointers::{clear, give, output, reference, slice, take};
 use crate::status::{guard, Failure};
 
 /// Options of [`surfkit_eat_scan`]; start from [`surfkit_eat_options_default`].
@@ -116,6 +116,22 @@ pub struct SurfkitFlaw {
     pub fix_verified: c_int,
 }
 
+impl SurfkitFlaw {
+    /// What a failed `surfkit_eat_report_flaw` leaves: null pointers, zero counts.
+    const EMPTY: SurfkitFlaw = SurfkitFlaw {
+        kind: std::ptr::null(),
+        vertices: std::ptr::null(),
+        vertex_count: 0,
+        faces: std::ptr::null(),
+        face_count: 0,
+        position: [0.0; 3],
+        component: 0,
+        description: std::ptr::null(),
+        suggested_fix: std::ptr::null(),
+        fix_verified: 0,
+    };
+}
+
 /// Texts of a flaw kept as C strings.
 struct FlawTexts {
     kind: CString,
@@ -211,6 +227,7 @@ pub unsafe extern "C" fn surfkit_eat_scan(
     out: *mut *mut SurfkitEatReport,
 ) -> c_int {
     guard(|| {
+        clear(out, std::ptr::null_mut());
         let out = output(out, "out")?;
         let mesh = &reference(mesh, "mesh")?.mesh;
         let check = options.as_ref().is_none_or(|o| o.check_fixes != 0);
@@ -234,6 +251,7 @@ pub unsafe extern "C" fn surfkit_eat_report_counts(
     out: *mut SurfkitEatCounts,
 ) -> c_int {
     guard(|| {
+        clear(out, SurfkitEatCounts::default());
         let r = &reference(report, "report")?.report;
         let c = &r.counts;
         *output(out, "out")? = SurfkitEatCounts {
@@ -272,10 +290,9 @@ pub unsafe extern "C" fn surfkit_eat_report_test_point(
     out: *mut SurfkitTestPoint,
 ) -> c_int {
     guard(|| {
+        clear(count, 0);
+        clear(out, SurfkitTestPoint::default());
         let r = &reference(report, "report")?.report;
-        if let Some(count) = count.as_mut() {
-            *count = r.checkpoints.len();
-        }
         if let Some(out) = out.as_mut() {
             let (point, checkpoint) = r.checkpoints.get(index).ok_or_else(|| {
                 Failure::invalid(format!(
@@ -289,6 +306,9 @@ pub unsafe extern "C" fn surfkit_eat_report_test_point(
                 euler_characteristic: checkpoint.statistics.euler_characteristic,
                 verified: checkpoint.verified as c_int,
             };
+        }
+        if let Some(count) = count.as_mut() {
+            *count = r.checkpoints.len();
         }
         Ok(())
     })
@@ -304,6 +324,7 @@ pub unsafe extern "C" fn surfkit_eat_report_flaw_count(
     count: *mut usize,
 ) -> c_int {
     guard(|| {
+        clear(count, 0);
         *output(count, "count")? = reference(report, "report")?.report.flaws.len();
         Ok(())
     })
@@ -320,6 +341,7 @@ pub unsafe extern "C" fn surfkit_eat_report_flaw(
     out: *mut SurfkitFlaw,
 ) -> c_int {
     guard(|| {
+        clear(out, SurfkitFlaw::EMPTY);
         let r = reference(report, "report")?;
         let flaw = r.report.flaws.get(index).ok_or_else(|| {
             Failure::invalid(format!(
@@ -356,6 +378,7 @@ pub unsafe extern "C" fn surfkit_eat_report_json(
     out: *mut *const c_char,
 ) -> c_int {
     guard(|| {
+        clear(out, std::ptr::null());
         let out = output(out, "out")?;
         let r = report
             .as_mut()

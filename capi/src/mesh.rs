@@ -3,11 +3,12 @@
 
 use std::ffi::{c_char, c_int};
 use std::path::Path;
+use std::ptr::{null, null_mut};
 
 use surfkit::mesh::io::{read_with, write, ReadOptions, WriteOptions};
 use surfkit::mesh::PolygonMesh;
 
-use crate::pointers::{give, output, reference, slice, take, text};
+use crate::pointers::{clear, give, output, reference, slice, take, text};
 use crate::status::{guard, Failure};
 
 /// An opaque polygon mesh owned by the caller (free it with [`surfkit_mesh_free`]).
@@ -56,6 +57,7 @@ pub unsafe extern "C" fn surfkit_mesh_new(
     out: *mut *mut SurfkitMesh,
 ) -> c_int {
     guard(|| {
+        clear(out, null_mut());
         let out = output(out, "out")?;
         let coordinates = vertex_count
             .checked_mul(3)
@@ -88,6 +90,7 @@ pub unsafe extern "C" fn surfkit_mesh_read(
     out: *mut *mut SurfkitMesh,
 ) -> c_int {
     guard(|| {
+        clear(out, null_mut());
         let out = output(out, "out")?;
         let path = text(path, "path")?;
         let mesh = read_with(
@@ -131,6 +134,9 @@ pub unsafe extern "C" fn surfkit_mesh_counts(
     index_count: *mut usize,
 ) -> c_int {
     guard(|| {
+        for slot in [vertex_count, face_count, index_count] {
+            clear(slot, 0);
+        }
         let m = &reference(mesh, "mesh")?.mesh;
         for (slot, value) in [
             (vertex_count, m.vertex_count()),
@@ -159,6 +165,9 @@ pub unsafe extern "C" fn surfkit_mesh_arrays(
     face_indices: *mut *const u32,
 ) -> c_int {
     guard(|| {
+        clear(positions, null());
+        clear(face_offsets, null());
+        clear(face_indices, null());
         let m = &reference(mesh, "mesh")?.mesh;
         if let Some(slot) = positions.as_mut() {
             *slot = m.positions_flat().as_ptr();

@@ -3,7 +3,8 @@
 // naming the element, never an abort; a throwing progress callback is rethrown, a
 // cancelling one stops the run; 1000 create/free cycles of every handle leak nothing; the
 // process's memory limit is set, enforced (also on the EAT registry's vertex ids) and
-// restored; EatCompanion keeps degenerate facets from OpenMesh; a whole-mesh test point.
+// restored; EatCompanion keeps degenerate facets from OpenMesh; a whole-mesh test point; a
+// failed call clears its outputs.
 // Prints "ok: N checks" and exits 0, or names the failed check and exits 1.
 #include <surfkit/openmesh.hh>
 
@@ -97,8 +98,9 @@ static void bad_input() {
   ptex = 0;
   u = 2.0;
   EXPECT(surfkit_limit_evaluate(limit, 1, &ptex, &u, &v, d) == SURFKIT_INVALID_INPUT && says("outside [0, 1]"));
-  EXPECT(surfkit_limit_new(m, nullptr, 11, &limit) == SURFKIT_INVALID_INPUT && says("max_isolation 11"));
   surfkit_limit_free(limit);
+  EXPECT(surfkit_limit_new(m, nullptr, 11, &limit) == SURFKIT_INVALID_INPUT && says("max_isolation 11"));
+  EXPECT(limit == nullptr);
   surfkit_mesh_free(m);
 
   SurfkitRegistry* reg = nullptr;
@@ -143,6 +145,156 @@ static void bad_input() {
   EXPECT(companion.refusals()[0].message.find("complex edge") != std::string::npos);
   auto c = companion.checkpoint(1);
   EXPECT(c.facets == 3 && c.edges == 7 && c.vertices == 5 && c.euler_characteristic == 1 && c.verified);
+}
+
+/// A stand-in for a pointer an earlier call left in an output: a failed call must not leave
+/// it there (nor leave the slot untouched).
+template <class T>
+static T* stale() {
+  static char storage[64];
+  return reinterpret_cast<T*>(storage);
+}
+
+static bool all_nan(const double* x, size_t n) {
+  for (size_t i = 0; i < n; ++i)
+    if (!std::isnan(x[i])) return false;
+  return true;
+}
+
+/// A failed call sets every output it was given to its empty value (header: handles and
+/// pointers NULL, counts and structs zero, the registry's facet UINT32_MAX, result arrays
+/// NaN), so a caller that does not check the status finds no stale pointer or number.
+static void failed_calls_clear_outputs() {
+  std::vector<double> p;
+  std::vector<uint32_t> o, idx;
+  cube(p, o, idx);
+  SurfkitMesh* m = stale<SurfkitMesh>();
+  EXPECT(surfkit_mesh_new(nullptr, 8, o.data(), 6, idx.data(), &m) == SURFKIT_INVALID_INPUT);
+  EXPECT(m == nullptr);
+  m = stale<SurfkitMesh>();
+  EXPECT(surfkit_mesh_read("/nonexistent/surfkit.obj", &m) == SURFKIT_IO && m == nullptr);
+  size_t nv = 7, nf = 7, ni = 7;
+  EXPECT(surfkit_mesh_counts(nullptr, &nv, &nf, &ni) == SURFKIT_INVALID_INPUT && nv == 0 && nf == 0 && ni == 0);
+  const double* pp = stale<const double>();
+  const uint32_t* po = stale<const uint32_t>();
+  const uint32_t* pi = stale<const uint32_t>();
+  EXPECT(surfkit_mesh_arrays(nullptr, &pp, &po, &pi) == SURFKIT_INVALID_INPUT);
+  EXPECT(pp == nullptr && po == nullptr && pi == nullptr);
+
+  // The EAT: a scan refused for its options, and the accessors of a live report asked
+  // for what it does not have (after a successful call filled the same outputs).
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), &m) == SURFKIT_OK);
+  SurfkitEatOptions eo{};
+  EXPECT(surfkit_eat_options_default(&eo) == SURFKIT_OK);
+  eo.weld_tolerance = -1;
+  SurfkitEatReport* r = stale<SurfkitEatReport>();
+  EXPECT(surfkit_eat_scan(m, &eo, &r) == SURFKIT_INVALID_INPUT && says("weld_tolerance") && r == nullptr);
+  const int64_t chi = 2;
+  eo.weld_tolerance = 0;
+  eo.test_point_expected = &chi;
+  eo.test_point_count = 1;
+  EXPECT(surfkit_eat_scan(m, &eo, &r) == SURFKIT_OK && r != nullptr);
+  SurfkitEatCounts counts{};
+  EXPECT(surfkit_eat_report_counts(r, &counts) == SURFKIT_OK && counts.faces == 6);
+  EXPECT(surfkit_eat_report_counts(nullptr, &counts) == SURFKIT_INVALID_INPUT);
+  EXPECT(counts.faces == 0 && counts.vertices == 0 && counts.euler_characteristic == 0 && counts.genus == 0);
+  size_t points = 0;
+  SurfkitTestPoint t{};
+  EXPECT(surfkit_eat_report_test_point(r, 0, &points, &t) == SURFKIT_OK && points == 1 && t.facets == 6);
+  EXPECT(surfkit_eat_report_test_point(r, 1, &points, &t) == SURFKIT_INVALID_INPUT && says("test point 1"));
+  EXPECT(points == 0 && t.facets == 0 && t.expected_euler_characteristic == 0 && t.verified == 0);
+  size_t flaws = 9;
+  EXPECT(surfkit_eat_report_flaw_count(nullptr, &flaws) == SURFKIT_INVALID_INPUT && flaws == 0);
+  SurfkitFlaw f;
+  f.kind = stale<const char>();
+  f.vertices = stale<const uint32_t>();
+  f.vertex_count = 3;
+  f.faces = stale<const uint32_t>();
+  f.face_count = 2;
+  f.description = f.suggested_fix = stale<const char>();
+  EXPECT(surfkit_eat_report_flaw(r, 0, &f) == SURFKIT_INVALID_INPUT && says("flaw 0 out of range"));
+  EXPECT(f.kind == nullptr && f.vertices == nullptr && f.vertex_count == 0 && f.faces == nullptr &&
+         f.face_count == 0 && f.description == nullptr && f.suggested_fix == nullptr);
+  const char* json = stale<const char>();
+  EXPECT(surfkit_eat_report_json(nullptr, &json) == SURFKIT_INVALID_INPUT && json == nullptr);
+  surfkit_eat_report_free(r);
+
+  // Fairing: a closed mesh with nothing fixed is refused; both outputs are cleared.
+  SurfkitMesh* faired = stale<SurfkitMesh>();
+  SurfkitFairReport* fr = stale<SurfkitFairReport>();
+  EXPECT(surfkit_fair(m, nullptr, &faired, &fr) != SURFKIT_OK && faired == nullptr && fr == nullptr);
+  SurfkitFairSummary summary;
+  summary.iterations = 5;
+  summary.f_after = 1.5;
+  EXPECT(surfkit_fair_report_summary(nullptr, &summary) == SURFKIT_INVALID_INPUT);
+  EXPECT(summary.iterations == 0 && summary.f_after == 0);
+  json = stale<const char>();
+  EXPECT(surfkit_fair_report_json(nullptr, &json) == SURFKIT_INVALID_INPUT && json == nullptr);
+
+  // Subdivision and the limit surface.
+  SurfkitMesh* fine = stale<SurfkitMesh>();
+  EXPECT(surfkit_subdivide(m, 11, nullptr, &fine) == SURFKIT_INVALID_INPUT && fine == nullptr);
+  SurfkitLimit* limit = stale<SurfkitLimit>();
+  EXPECT(surfkit_limit_new(m, nullptr, 0, &limit) == SURFKIT_INVALID_INPUT && limit == nullptr);
+  EXPECT(surfkit_limit_new(m, nullptr, 4, &limit) == SURFKIT_OK);
+  uint32_t first = 3, count = 1;
+  EXPECT(surfkit_limit_ptex_faces(limit, 6, &first, &count) == SURFKIT_INVALID_INPUT && first == 0 && count == 0);
+  EXPECT(surfkit_limit_ptex_faces(limit, 2, &first, &count) == SURFKIT_OK && first == 2 && count == 1);
+  EXPECT(surfkit_limit_ptex_faces(limit, 2, &first, nullptr) == SURFKIT_INVALID_INPUT && first == 0);
+  uint32_t ptex[2] = {0, 6};
+  double u[2] = {0.5, 0.5}, v[2] = {0.5, 0.5}, d[60];
+  std::fill(d, d + 60, 1.0);
+  EXPECT(surfkit_limit_evaluate(limit, 1, ptex, u, v, d) == SURFKIT_OK && !std::isnan(d[0]) && d[30] == 1.0);
+  EXPECT(surfkit_limit_evaluate(limit, 2, ptex, u, v, d) == SURFKIT_INVALID_INPUT && all_nan(d, 60));
+  double normals[6] = {1, 1, 1, 1, 1, 1}, mean[2] = {1, 1}, k2[2] = {1, 1};
+  EXPECT(surfkit_limit_curvature(limit, 2, ptex, u, v, normals, mean, nullptr, nullptr, k2) == SURFKIT_INVALID_INPUT);
+  EXPECT(all_nan(normals, 6) && all_nan(mean, 2) && all_nan(k2, 2));
+  surfkit_limit_free(limit);
+  surfkit_mesh_free(m);
+
+  // The registry.
+  SurfkitRegistry* reg = nullptr;
+  EXPECT(surfkit_registry_new(3, &reg) == SURFKIT_OK);
+  uint32_t facet = 5;
+  const uint32_t tri[3] = {0, 1, 2}, far[3] = {0, 1, 9};
+  EXPECT(surfkit_registry_add_facet(reg, tri, 3, 0, &facet) == SURFKIT_OK && facet == 0);
+  EXPECT(surfkit_registry_add_facet(reg, far, 3, 1, &facet) == SURFKIT_INVALID_INPUT && facet == UINT32_MAX);
+  SurfkitCheckpoint cp{};
+  EXPECT(surfkit_registry_checkpoint(reg, 2, &cp) == SURFKIT_OK && !cp.verified && cp.statistics.facets == 1);
+  EXPECT(surfkit_registry_checkpoint(nullptr, 2, &cp) == SURFKIT_INVALID_INPUT);
+  EXPECT(cp.statistics.facets == 0 && cp.expected_euler_characteristic == 0);
+  SurfkitEatStatistics st{};
+  EXPECT(surfkit_registry_statistics(reg, &st) == SURFKIT_OK && st.facets == 1);
+  EXPECT(surfkit_registry_statistics(nullptr, &st) == SURFKIT_INVALID_INPUT && st.facets == 0 && st.vertices == 0);
+  const uint32_t* suspects = stale<const uint32_t>();
+  size_t suspect_count = 4;
+  EXPECT(surfkit_registry_suspects(nullptr, &suspects, &suspect_count) == SURFKIT_INVALID_INPUT);
+  EXPECT(suspects == nullptr && suspect_count == 0);
+  suspects = stale<const uint32_t>();
+  EXPECT(surfkit_registry_suspects(reg, &suspects, nullptr) == SURFKIT_INVALID_INPUT && suspects == nullptr);
+  surfkit_registry_free(reg);
+
+  // Splines.
+  double data_uv[2] = {0, 0}, data_xyz[3] = {0, 0, std::numeric_limits<double>::quiet_NaN()};
+  SurfkitSpline* s = stale<SurfkitSpline>();
+  EXPECT(surfkit_fit(data_uv, data_xyz, 1, nullptr, &s) == SURFKIT_INVALID_INPUT && s == nullptr);
+  std::vector<double> grid_uv, grid_xyz;
+  for (int j = 0; j < 10; ++j)
+    for (int i = 0; i < 10; ++i) {
+      double x = i / 9.0, y = j / 9.0;
+      grid_uv.insert(grid_uv.end(), {x, y});
+      grid_xyz.insert(grid_xyz.end(), {x, y, x * y});
+    }
+  SurfkitFitOptions fit;
+  surfkit_fit_options_default(&fit);
+  fit.cells_u = fit.cells_v = 2;
+  EXPECT(surfkit_fit(grid_uv.data(), grid_xyz.data(), 100, &fit, &s) == SURFKIT_OK);
+  double at[4] = {0.5, 0.5, 2.0, 0.5}, xyz[6] = {1, 1, 1, 1, 1, 1};
+  EXPECT(surfkit_spline_evaluate(s, 2, at, xyz) == SURFKIT_INVALID_INPUT && says("point 1") && all_nan(xyz, 6));
+  EXPECT(surfkit_spline_evaluate(s, 1, at, xyz) == SURFKIT_OK && std::abs(xyz[2] - 0.25) < 1e-6);
+  json = stale<const char>();
+  EXPECT(surfkit_spline_report_json(nullptr, &json) == SURFKIT_INVALID_INPUT && json == nullptr);
+  surfkit_spline_free(s);
 }
 
 static void callbacks() {
@@ -469,6 +621,7 @@ int main() {
   coarse_start_option();
   companion_degenerate_faces();
   whole_mesh_test_point();
+  failed_calls_clear_outputs();
   std::cout << "ok: " << checks << " checks" << std::endl;
   return 0;
 }
