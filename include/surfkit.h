@@ -11,7 +11,7 @@
  * their size is valid). Handles are opaque, created by surfkit_* producers, owned by the
  * caller and freed once with their *_free (null is ignored). Bulk data crosses as flat
  * arrays: positions as doubles (x, y, z per vertex), faces as offsets (face_count + 1,
- * starting at 0) + vertex indices (uint32_t).
+ * from 0 to the index count) + vertex indices (uint32_t).
  * Borrowed pointers returned by accessors live as long as the handle they came from.
  * No call aborts the process: panics are caught and reported as SURFKIT_INTERNAL.
  */
@@ -91,9 +91,10 @@
  incompatibly (2: `SurfkitEatOptions.check_fixes` and `SurfkitFlaw.fix_verified`; 3:
  `SurfkitFairOptions.method` and `SurfkitFairSummary.method`; 4:
  `SurfkitFairOptions.coarse_start`, `SurfkitFairSummary.coarse_stage` and
- `coarse_start_used`). Compare with [`surfkit_abi_version`] at run time.
+ `coarse_start_used`; 5: `surfkit_mesh_new` takes `index_count`). Compare with
+ [`surfkit_abi_version`] at run time.
  */
-#define SURFKIT_ABI_VERSION 4
+#define SURFKIT_ABI_VERSION 5
 
 /*
  Success.
@@ -743,20 +744,25 @@ uint64_t surfkit_max_memory(void);
 
 /*
  Makes a mesh from `vertex_count` positions (x, y, z each), `face_count + 1` face offsets
- (face f is `face_indices[offsets[f] .. offsets[f + 1]]`, offsets[0] = 0) and
- `offsets[face_count]` vertex indices. Polygons of any arity; nothing is re-indexed.
+ (face f is `face_indices[face_offsets[f] .. face_offsets[f + 1]]`) and `index_count`
+ vertex indices. Polygons of any arity, also fewer than 3 corners (degenerate facets,
+ which the EAT counts); nothing is re-indexed.
 
- Errors: null arrays, decreasing offsets, an index ≥ `vertex_count` (the message names
- the face), a non-finite coordinate (names the vertex).
+ Checked before anything is copied: the copy's size against the memory limit
+ (`SURFKIT_RESOURCE_LIMIT`); `face_offsets[0] = 0`, offsets that never decrease and
+ `face_offsets[face_count] = index_count` (before an index is read); then every index
+ < `vertex_count` and every coordinate finite. Errors name the face or vertex at fault.
 
  # Safety
- The arrays must hold the announced numbers of elements; `out` must be writable.
+ `positions` must hold `3 · vertex_count` doubles, `face_offsets` `face_count + 1` and
+ `face_indices` `index_count` integers (null only for 0); `out` must be writable.
  */
 int surfkit_mesh_new(const double *positions,
                      uintptr_t vertex_count,
                      const uint32_t *face_offsets,
                      uintptr_t face_count,
                      const uint32_t *face_indices,
+                     uintptr_t index_count,
                      struct SurfkitMesh **out);
 
 /*

@@ -116,7 +116,7 @@ struct Flattened {
   MeshPtr make() const {
     SurfkitMesh* out = nullptr;
     check(surfkit_mesh_new(positions.data(), vertex_of.size(), offsets.data(), face_of.size(),
-                           indices.data(), &out));
+                           indices.data(), indices.size(), &out));
     return MeshPtr(out);
   }
 };

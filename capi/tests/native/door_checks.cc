@@ -4,7 +4,7 @@
 // cancelling one stops the run; 1000 create/free cycles of every handle leak nothing; the
 // process's memory limit is set, enforced (also on the EAT registry's vertex ids) and
 // restored; EatCompanion keeps degenerate facets from OpenMesh; a whole-mesh test point; a
-// failed call clears its outputs.
+// failed call clears its outputs; surfkit_mesh_new checks its offsets against index_count.
 // Prints "ok: N checks" and exits 0, or names the failed check and exits 1.
 #include <surfkit/openmesh.hh>
 
@@ -60,25 +60,25 @@ static void bad_input() {
   std::vector<double> p;
   std::vector<uint32_t> o, idx;
   cube(p, o, idx);
-  EXPECT(surfkit_mesh_new(nullptr, 8, o.data(), 6, idx.data(), &m) == SURFKIT_INVALID_INPUT && says("positions"));
+  EXPECT(surfkit_mesh_new(nullptr, 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT && says("positions"));
   EXPECT(m == nullptr);
-  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), nullptr) == SURFKIT_INVALID_INPUT && says("out"));
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), idx.size(), nullptr) == SURFKIT_INVALID_INPUT && says("out"));
   std::vector<uint32_t> wrong = idx;
   wrong[5] = 99;
-  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, wrong.data(), &m) == SURFKIT_INVALID_INPUT &&
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, wrong.data(), wrong.size(), &m) == SURFKIT_INVALID_INPUT &&
          says("face 1 refers to vertex 99"));
   std::vector<double> nan = p;
   nan[7] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT(surfkit_mesh_new(nan.data(), 8, o.data(), 6, idx.data(), &m) == SURFKIT_INVALID_INPUT &&
+  EXPECT(surfkit_mesh_new(nan.data(), 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT &&
          says("vertex 2 has a non-finite coordinate"));
   std::vector<uint32_t> decreasing = {0, 4, 2, 12, 16, 20, 24};
-  EXPECT(surfkit_mesh_new(p.data(), 8, decreasing.data(), 6, idx.data(), &m) == SURFKIT_INVALID_INPUT &&
+  EXPECT(surfkit_mesh_new(p.data(), 8, decreasing.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT &&
          says("decrease at face 1"));
   EXPECT(surfkit_mesh_read("/nonexistent/surfkit.obj", &m) == SURFKIT_IO && says("/nonexistent/surfkit.obj"));
   SurfkitEatReport* r = nullptr;
   EXPECT(surfkit_eat_scan(nullptr, nullptr, &r) == SURFKIT_INVALID_INPUT && says("mesh is a null pointer"));
 
-  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), &m) == SURFKIT_OK);
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_OK);
   EXPECT(std::strlen(surfkit_last_error()) == 0);
   EXPECT(surfkit_eat_scan(m, nullptr, &r) == SURFKIT_OK);
   SurfkitFlaw f;
@@ -169,7 +169,7 @@ static void failed_calls_clear_outputs() {
   std::vector<uint32_t> o, idx;
   cube(p, o, idx);
   SurfkitMesh* m = stale<SurfkitMesh>();
-  EXPECT(surfkit_mesh_new(nullptr, 8, o.data(), 6, idx.data(), &m) == SURFKIT_INVALID_INPUT);
+  EXPECT(surfkit_mesh_new(nullptr, 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT);
   EXPECT(m == nullptr);
   m = stale<SurfkitMesh>();
   EXPECT(surfkit_mesh_read("/nonexistent/surfkit.obj", &m) == SURFKIT_IO && m == nullptr);
@@ -183,7 +183,7 @@ static void failed_calls_clear_outputs() {
 
   // The EAT: a scan refused for its options, and the accessors of a live report asked
   // for what it does not have (after a successful call filled the same outputs).
-  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), &m) == SURFKIT_OK);
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_OK);
   SurfkitEatOptions eo{};
   EXPECT(surfkit_eat_options_default(&eo) == SURFKIT_OK);
   eo.weld_tolerance = -1;
@@ -297,6 +297,56 @@ static void failed_calls_clear_outputs() {
   surfkit_spline_free(s);
 }
 
+/// surfkit_mesh_new checks the offsets against index_count before it reads an index, and
+/// the size of its copy against the memory limit before it reads anything: a wrong count
+/// is an error naming the face, never a read past the caller's arrays.
+static void mesh_new_checks_its_arrays() {
+  std::vector<double> p;
+  std::vector<uint32_t> o, idx;
+  cube(p, o, idx);
+  SurfkitMesh* m = nullptr;
+  // The last offset must be the index count: one more announced, or one fewer.
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), 23, &m) == SURFKIT_INVALID_INPUT && m == nullptr);
+  EXPECT(says("face 5 ends at face_offsets[6] = 24 but index_count is 23"));
+  // A corrupt last offset (4 000 000 000 indices claimed) is caught without reading them.
+  std::vector<uint32_t> huge_end = o;
+  huge_end.back() = 4000000000u;
+  EXPECT(surfkit_mesh_new(p.data(), 8, huge_end.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT);
+  EXPECT(says("face 5 ends at face_offsets[6] = 4000000000 but index_count is 24") && m == nullptr);
+  std::vector<uint32_t> late_start = o;
+  late_start[0] = 1;
+  EXPECT(surfkit_mesh_new(p.data(), 8, late_start.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT);
+  EXPECT(says("face_offsets[0] is 1: face 0 must start at index 0"));
+  std::vector<uint32_t> decreasing = {0, 4, 8, 12, 11, 20, 24};
+  EXPECT(surfkit_mesh_new(p.data(), 8, decreasing.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT);
+  EXPECT(says("face_offsets decrease at face 3: it starts at 12 and ends at 11"));
+  // No face: the one offset is 0 and there is no index.
+  const uint32_t zero = 0, one = 1;
+  EXPECT(surfkit_mesh_new(p.data(), 8, &one, 0, nullptr, 0, &m) == SURFKIT_INVALID_INPUT && says("face_offsets[0] is 1"));
+  EXPECT(surfkit_mesh_new(p.data(), 8, &zero, 0, nullptr, 0, &m) == SURFKIT_OK);
+  size_t nv = 0, nf = 9, ni = 9;
+  EXPECT(surfkit_mesh_counts(m, &nv, &nf, &ni) == SURFKIT_OK && nv == 8 && nf == 0 && ni == 0);
+  surfkit_mesh_free(m);
+  // Degenerate facets (2 corners, 1 corner) are taken: the EAT counts them.
+  const uint32_t short_offsets[4] = {0, 3, 5, 6}, short_faces[6] = {0, 1, 2, 2, 3, 4};
+  m = nullptr;
+  EXPECT(surfkit_mesh_new(p.data(), 8, short_offsets, 3, short_faces, 6, &m) == SURFKIT_OK);
+  SurfkitEatReport* r = nullptr;
+  EXPECT(surfkit_eat_scan(m, nullptr, &r) == SURFKIT_OK);
+  SurfkitEatCounts c{};
+  EXPECT(surfkit_eat_report_counts(r, &c) == SURFKIT_OK && c.faces == 3 && c.degenerate_facets == 2);
+  surfkit_eat_report_free(r);
+  surfkit_mesh_free(m);
+  // A size past the memory limit is refused before the arrays are read: the positions
+  // announced here (2²⁰ vertices, 24 MiB to copy) do not exist.
+  EXPECT(surfkit_set_max_memory(uint64_t(16) << 20) == SURFKIT_OK);
+  m = stale<SurfkitMesh>();
+  EXPECT(surfkit_mesh_new(p.data(), size_t(1) << 20, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_RESOURCE_LIMIT);
+  EXPECT(m == nullptr && says("1048576 vertices, 6 faces and 24 face indices") && says("memory limit of 16 MiB"));
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), SIZE_MAX / 8, idx.data(), idx.size(), &m) == SURFKIT_RESOURCE_LIMIT);
+  EXPECT(surfkit_set_max_memory(0) == SURFKIT_OK);
+}
+
 static void callbacks() {
   // A throwing progress callback: the exception reaches the caller, nothing aborts.
   Mesh m = grid(6, 1.0f);
@@ -335,7 +385,7 @@ static void cycles() {
   fit.cells_u = fit.cells_v = 2;
   for (int k = 0; k < 1000; ++k) {
     SurfkitMesh* m = nullptr;
-    EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), &m) == SURFKIT_OK);
+    EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_OK);
     SurfkitEatReport* r = nullptr;
     EXPECT(surfkit_eat_scan(m, nullptr, &r) == SURFKIT_OK);
     const char* json = nullptr;
@@ -358,7 +408,7 @@ static void cycles() {
     EXPECT(surfkit_fit(uv.data(), xyz.data(), 100, &fit, &s) == SURFKIT_OK);
     surfkit_spline_free(s);
     // An error path allocates a message too.
-    EXPECT(surfkit_mesh_new(nullptr, 8, o.data(), 6, idx.data(), &m) == SURFKIT_INVALID_INPUT);
+    EXPECT(surfkit_mesh_new(nullptr, 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT);
   }
   // Fairing handles: a small plate, one iteration each.
   surfkit::detail::Flattened<Mesh> flat(plate);
@@ -488,7 +538,7 @@ static void memory_limit() {
   std::vector<double> p;
   std::vector<uint32_t> o, idx;
   cube(p, o, idx);
-  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), &m) == SURFKIT_OK);
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_OK);
   // 8 levels make 24 · 4^7 = 393 216 quads, about 126 MB at 320 bytes each.
   SurfkitMesh* fine = nullptr;
   EXPECT(surfkit_subdivide(m, 8, nullptr, &fine) == SURFKIT_RESOURCE_LIMIT && fine == nullptr);
@@ -587,7 +637,7 @@ static void whole_mesh_test_point() {
   std::vector<uint32_t> off, idx;
   cube(p, off, idx);
   SurfkitMesh* cm = nullptr;
-  EXPECT(surfkit_mesh_new(p.data(), 8, off.data(), 6, idx.data(), &cm) == SURFKIT_OK);
+  EXPECT(surfkit_mesh_new(p.data(), 8, off.data(), 6, idx.data(), idx.size(), &cm) == SURFKIT_OK);
   SurfkitEatOptions co{};
   EXPECT(surfkit_eat_options_default(&co) == SURFKIT_OK);
   const int64_t chi = 2;
@@ -622,6 +672,7 @@ int main() {
   companion_degenerate_faces();
   whole_mesh_test_point();
   failed_calls_clear_outputs();
+  mesh_new_checks_its_arrays();
   std::cout << "ok: " << checks << " checks" << std::endl;
   return 0;
 }
