@@ -91,7 +91,8 @@
  incompatibly (2: `SurfkitEatOptions.check_fixes` and `SurfkitFlaw.fix_verified`; 3:
  `SurfkitFairOptions.method` and `SurfkitFairSummary.method`; 4:
  `SurfkitFairOptions.coarse_start`, `SurfkitFairSummary.coarse_stage` and
- `coarse_start_used`; 5: `surfkit_mesh_new` takes `index_count`). Compare with
+ `coarse_start_used`; 5: `surfkit_mesh_new` takes `index_count`,
+ `SurfkitEatCounts.boundary_loops_walk` and `non_orientable_genus`). Compare with
  [`surfkit_abi_version`] at run time.
  */
 #define SURFKIT_ABI_VERSION 5
@@ -232,7 +233,8 @@ typedef struct SurfkitEatOptions {
 } SurfkitEatOptions;
 
 /*
- The counts of a report, as `surfkit eat --json` gives them under `report.counts`.
+ The counts of a report, as `surfkit eat --json` gives them under `report.counts` (with
+ −1 for its nulls), and the number of faces OpenMesh refused.
  */
 typedef struct SurfkitEatCounts {
   uintptr_t vertices_in_file;
@@ -259,9 +261,21 @@ typedef struct SurfkitEatCounts {
    */
   int verified;
   /*
-   Faces OpenMesh refused (0 without the half-edge structure).
+   Faces OpenMesh refused (0 without the half-edge structure); the JSON's
+   `halfedge.refused` lists them.
    */
   uintptr_t refused_faces;
+  /*
+   Boundary loops as a half-edge walk that continues within each fan counts them
+   (differs from `boundary_loops` at pinch vertices); −1 where a non-manifold edge or an
+   inconsistent orientation leaves it undefined.
+   */
+  int64_t boundary_loops_walk;
+  /*
+   Cross-caps, 2c − b − χ, when every component is a non-orientable manifold (Möbius
+   strip 1, Klein bottle 2), else −1.
+   */
+  int64_t non_orientable_genus;
 } SurfkitEatCounts;
 
 /*

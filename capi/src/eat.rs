@@ -59,7 +59,8 @@ pub unsafe extern "C" fn surfkit_eat_options_default(options: *mut SurfkitEatOpt
     })
 }
 
-/// The counts of a report, as `surfkit eat --json` gives them under `report.counts`.
+/// The counts of a report, as `surfkit eat --json` gives them under `report.counts` (with
+/// −1 for its nulls), and the number of faces OpenMesh refused.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct SurfkitEatCounts {
@@ -82,8 +83,16 @@ pub struct SurfkitEatCounts {
     pub coincident_vertices: usize,
     /// Non-zero when every test point was verified.
     pub verified: c_int,
-    /// Faces OpenMesh refused (0 without the half-edge structure).
+    /// Faces OpenMesh refused (0 without the half-edge structure); the JSON's
+    /// `halfedge.refused` lists them.
     pub refused_faces: usize,
+    /// Boundary loops as a half-edge walk that continues within each fan counts them
+    /// (differs from `boundary_loops` at pinch vertices); −1 where a non-manifold edge or an
+    /// inconsistent orientation leaves it undefined.
+    pub boundary_loops_walk: i64,
+    /// Cross-caps, 2c − b − χ, when every component is a non-orientable manifold (Möbius
+    /// strip 1, Klein bottle 2), else −1.
+    pub non_orientable_genus: i64,
 }
 
 /// A test point's outcome.
@@ -273,6 +282,10 @@ pub unsafe extern "C" fn surfkit_eat_report_counts(
             coincident_vertices: c.coincident_vertices,
             verified: r.verified() as c_int,
             refused_faces: r.halfedge.as_ref().map_or(0, |h| h.refused.len()),
+            boundary_loops_walk: c
+                .boundary_loops_walk
+                .map_or(-1, |n| i64::try_from(n).unwrap_or(i64::MAX)),
+            non_orientable_genus: c.non_orientable_genus.unwrap_or(-1),
         };
         Ok(())
     })

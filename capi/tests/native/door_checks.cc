@@ -4,7 +4,8 @@
 // cancelling one stops the run; 1000 create/free cycles of every handle leak nothing; the
 // process's memory limit is set, enforced (also on the EAT registry's vertex ids) and
 // restored; EatCompanion keeps degenerate facets from OpenMesh; a whole-mesh test point; a
-// failed call clears its outputs; surfkit_mesh_new checks its offsets against index_count.
+// failed call clears its outputs; surfkit_mesh_new checks its offsets against index_count;
+// EatReport has the JSON report's counts.
 // Prints "ok: N checks" and exits 0, or names the failed check and exits 1.
 #include <surfkit/openmesh.hh>
 
@@ -347,6 +348,58 @@ static void mesh_new_checks_its_arrays() {
   EXPECT(surfkit_set_max_memory(0) == SURFKIT_OK);
 }
 
+/// A soup through the C door's scan, read back as the C++ layer's EatReport.
+static surfkit::EatReport eat_soup(const std::vector<double>& p, const std::vector<uint32_t>& o,
+                                   const std::vector<uint32_t>& idx) {
+  SurfkitMesh* m = nullptr;
+  EXPECT(surfkit_mesh_new(p.data(), p.size() / 3, o.data(), o.size() - 1, idx.data(), idx.size(), &m) == SURFKIT_OK);
+  SurfkitEatReport* raw = nullptr;
+  EXPECT(surfkit_eat_scan(m, nullptr, &raw) == SURFKIT_OK);
+  surfkit::EatReport r = surfkit::detail::read_eat_report(raw);
+  surfkit_eat_report_free(raw);
+  surfkit_mesh_free(m);
+  return r;
+}
+
+static bool json_has(const surfkit::EatReport& r, const std::string& pair) {
+  return r.json.find(pair) != std::string::npos;
+}
+
+/// EatReport carries every count of the JSON report (report.counts, and the refused faces
+/// of report.halfedge): the values equal the JSON's.
+static void eat_report_has_the_json_counts() {
+  // Two triangles running edge 1–2 the same way (OpenMesh refuses the second) and a vertex
+  // no face uses.
+  surfkit::EatReport r = eat_soup({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 5, 5, 5}, {0, 3, 6}, {0, 1, 2, 1, 2, 3});
+  EXPECT(r.vertices_in_file == 5 && json_has(r, "\"vertices_in_file\":5"));
+  EXPECT(r.vertices == 4 && json_has(r, "\"vertices_referenced\":4"));
+  EXPECT(r.inconsistent_orientation_edges == 1 && json_has(r, "\"inconsistent_orientation_edges\":1"));
+  EXPECT(r.refused_faces == 1 && json_has(r, "\"refused\":[[1,"));
+  EXPECT(r.boundary_loops_walk == -1 && json_has(r, "\"boundary_loops_walk\":null"));
+  EXPECT(r.non_orientable_genus == -1 && json_has(r, "\"non_orientable_genus\":null"));
+  // Two triangles sharing only vertex 0: one boundary graph, two loops walked fan by fan.
+  r = eat_soup({0, 0, 0, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0}, {0, 3, 6}, {0, 1, 2, 0, 3, 4});
+  EXPECT(r.boundary_loops == 1 && json_has(r, "\"boundary_loops\":1"));
+  EXPECT(r.boundary_loops_walk == 2 && json_has(r, "\"boundary_loops_walk\":2"));
+  EXPECT(r.vertices_in_file == 5 && r.inconsistent_orientation_edges == 0 && r.refused_faces == 0);
+  // A Möbius strip of four quads (the last one twisted): one cross-cap.
+  std::vector<double> p;
+  for (int i = 0; i < 4; ++i) p.insert(p.end(), {double(i), 0.0, 1.0});  // t0..t3
+  for (int i = 0; i < 4; ++i) p.insert(p.end(), {double(i), 0.5, 0.0});  // b0..b3
+  r = eat_soup(p, {0, 4, 8, 12, 16}, {0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 4, 0, 7});
+  EXPECT(r.euler_characteristic == 0 && r.boundary_loops == 1);
+  EXPECT(r.non_orientable_genus == 1 && json_has(r, "\"non_orientable_genus\":1"));
+  EXPECT(r.genus == -1 && json_has(r, "\"genus\":null"));
+  EXPECT(r.inconsistent_orientation_edges == 1 && r.refused_faces == 1);
+  // Through eat(mesh): an OpenMesh grid with a vertex of its own.
+  Mesh m = grid(4, 0.5f);
+  m.add_vertex(Mesh::Point(9, 9, 9));
+  r = surfkit::eat(m);
+  EXPECT(r.vertices_in_file == 26 && r.vertices == 25 && r.unreferenced_vertices == 1);
+  EXPECT(r.boundary_loops_walk == 1 && json_has(r, "\"boundary_loops_walk\":1"));
+  EXPECT(r.refused_faces == 0 && r.inconsistent_orientation_edges == 0 && r.non_orientable_genus == -1);
+}
+
 static void callbacks() {
   // A throwing progress callback: the exception reaches the caller, nothing aborts.
   Mesh m = grid(6, 1.0f);
@@ -673,6 +726,7 @@ int main() {
   whole_mesh_test_point();
   failed_calls_clear_outputs();
   mesh_new_checks_its_arrays();
+  eat_report_has_the_json_counts();
   std::cout << "ok: " << checks << " checks" << std::endl;
   return 0;
 }
