@@ -626,6 +626,20 @@ struct FairReport {
 
 namespace detail {
 
+/// Recomputes the normals `mesh` has after its points moved, as update_normals() does;
+/// vertex and halfedge normals are made from face normals, so without those they are
+/// computed through face normals requested for the call.
+template <class Mesh>
+void update_normals(Mesh& mesh) {
+  if (mesh.has_face_normals()) {
+    mesh.update_normals();
+  } else if (mesh.has_vertex_normals() || mesh.has_halfedge_normals()) {
+    mesh.request_face_normals();
+    mesh.update_normals();
+    mesh.release_face_normals();
+  }
+}
+
 struct ProgressBridge {
   const std::function<bool(const FairIteration&)>* progress;
   std::exception_ptr error;
@@ -647,8 +661,10 @@ struct ProgressBridge {
 
 /// Optimizes the shape of the mesh's Catmull–Clark surface (Kiciak) and writes the
 /// optimized points back with set_point; topology and handles are untouched, fixed
-/// vertices keep their points bit for bit. The mesh must meet the method's conditions
-/// (quads, special vertices apart), since it is not refined here.
+/// vertices keep their points bit for bit. The normals the mesh has (face, vertex,
+/// halfedge) are then recomputed from the new points, as mesh.update_normals() computes
+/// them. The mesh must meet the method's conditions (quads, special vertices apart), since
+/// it is not refined here.
 template <class Mesh>
 FairReport fair(Mesh& mesh, const FairOptions& options = FairOptions{}) {
   detail::Flattened<Mesh> flat(mesh);
@@ -705,6 +721,7 @@ FairReport fair(Mesh& mesh, const FairOptions& options = FairOptions{}) {
     mesh.set_point(flat.vertex_of[v], typename Mesh::Point(static_cast<Scalar>(positions[3 * v]),
                                                            static_cast<Scalar>(positions[3 * v + 1]),
                                                            static_cast<Scalar>(positions[3 * v + 2])));
+  detail::update_normals(mesh);
   FairReport r;
   r.converged = s.converged != 0;
   r.cancelled = s.cancelled != 0;

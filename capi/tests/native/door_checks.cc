@@ -5,7 +5,7 @@
 // process's memory limit is set, enforced (also on the EAT registry's vertex ids) and
 // restored; EatCompanion keeps degenerate facets from OpenMesh; a whole-mesh test point; a
 // failed call clears its outputs; surfkit_mesh_new checks its offsets against index_count;
-// EatReport has the JSON report's counts.
+// EatReport has the JSON report's counts; fair() leaves the mesh's normals up to date.
 // Prints "ok: N checks" and exits 0, or names the failed check and exits 1.
 #include <surfkit/openmesh.hh>
 
@@ -400,6 +400,45 @@ static void eat_report_has_the_json_counts() {
   EXPECT(r.refused_faces == 0 && r.inconsistent_orientation_edges == 0 && r.non_orientable_genus == -1);
 }
 
+/// fair() writes new points and then the normals the mesh has are those OpenMesh computes
+/// from them (not the stale ones of the old points), for every combination of normals.
+static void fair_updates_the_normals() {
+  for (int variant = 0; variant < 3; ++variant) {
+    Mesh m = grid(6, 1.0f);
+    const bool faces = variant != 1, vertices = variant != 2;
+    if (faces) m.request_face_normals();
+    if (vertices) m.request_vertex_normals();
+    if (variant == 0) m.request_halfedge_normals();
+    m.update_normals();
+    if (!faces)  // vertex normals only: OpenMesh's update_normals() leaves them; set them
+      for (auto vh : m.vertices()) m.set_normal(vh, Mesh::Normal(0, 0, 1));
+    const Mesh before = m;
+    surfkit::FairOptions options;
+    options.boundary_rings = 1;
+    surfkit::FairReport q = surfkit::fair(m, options);
+    EXPECT(q.converged && q.s_after < q.s_before);
+    EXPECT(m.has_face_normals() == faces && m.has_vertex_normals() == vertices);
+    // What OpenMesh computes from the new points.
+    Mesh expected = m;
+    expected.request_face_normals();
+    expected.update_normals();
+    size_t moved = 0;
+    if (faces)
+      for (auto fh : m.faces()) {
+        EXPECT(m.normal(fh) == expected.normal(fh));
+        moved += m.normal(fh) != before.normal(fh);
+      }
+    if (vertices)
+      for (auto vh : m.vertices()) {
+        EXPECT(m.normal(vh) == expected.normal(vh));
+        moved += m.normal(vh) != before.normal(vh);
+      }
+    if (variant == 0)
+      for (auto hh : m.halfedges()) EXPECT(m.normal(hh) == expected.normal(hh));
+    EXPECT(moved > 10);
+  }
+}
+
 static void callbacks() {
   // A throwing progress callback: the exception reaches the caller, nothing aborts.
   Mesh m = grid(6, 1.0f);
@@ -727,6 +766,7 @@ int main() {
   failed_calls_clear_outputs();
   mesh_new_checks_its_arrays();
   eat_report_has_the_json_counts();
+  fair_updates_the_normals();
   std::cout << "ok: " << checks << " checks" << std::endl;
   return 0;
 }
