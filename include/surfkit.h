@@ -3,10 +3,15 @@
  *
  * Conventions: every function returns an int status (SURFKIT_OK = 0, else SURFKIT_*) and
  * on failure surfkit_last_error() gives a message naming the element and the problem
- * (thread-local, valid until the next surfkit call on the thread). Handles are opaque,
- * created by surfkit_* producers, owned by the caller and freed once with their *_free
- * (null is ignored). Bulk data crosses as flat arrays: positions as doubles (x, y, z per
- * vertex), faces as offsets (face_count + 1, starting at 0) + vertex indices (uint32_t).
+ * (thread-local, valid until the next surfkit call on the thread). A failed call leaves
+ * every output it was given at its empty value, never at what an earlier call put there:
+ * handle and borrowed-pointer outputs NULL, counts and output structs zero (their pointers
+ * NULL), surfkit_registry_add_facet's facet UINT32_MAX, and the result arrays of
+ * surfkit_limit_evaluate, surfkit_limit_curvature and surfkit_spline_evaluate NaN (when
+ * their size is valid). Handles are opaque, created by surfkit_* producers, owned by the
+ * caller and freed once with their *_free (null is ignored). Bulk data crosses as flat
+ * arrays: positions as doubles (x, y, z per vertex), faces as offsets (face_count + 1,
+ * from 0 to the index count) + vertex indices (uint32_t).
  * Borrowed pointers returned by accessors live as long as the handle they came from.
  * No call aborts the process: panics are caught and reported as SURFKIT_INTERNAL.
  */
@@ -86,9 +91,11 @@
  incompatibly (2: `SurfkitEatOptions.check_fixes` and `SurfkitFlaw.fix_verified`; 3:
  `SurfkitFairOptions.method` and `SurfkitFairSummary.method`; 4:
  `SurfkitFairOptions.coarse_start`, `SurfkitFairSummary.coarse_stage` and
- `coarse_start_used`). Compare with [`surfkit_abi_version`] at run time.
+ `coarse_start_used`; 5: `surfkit_mesh_new` takes `index_count`,
+ `SurfkitEatCounts.boundary_loops_walk` and `non_orientable_genus`). Compare with
+ [`surfkit_abi_version`] at run time.
  */
-#define SURFKIT_ABI_VERSION 4
+#define SURFKIT_ABI_VERSION 5
 
 /*
  Success.
@@ -226,7 +233,8 @@ typedef struct SurfkitEatOptions {
 } SurfkitEatOptions;
 
 /*
- The counts of a report, as `surfkit eat --json` gives them under `report.counts`.
+ The counts of a report, as `surfkit eat --json` gives them under `report.counts` (with
+ −1 for its nulls), and the number of faces OpenMesh refused.
  */
 typedef struct SurfkitEatCounts {
   uintptr_t vertices_in_file;
@@ -253,9 +261,21 @@ typedef struct SurfkitEatCounts {
    */
   int verified;
   /*
-   Faces OpenMesh refused (0 without the half-edge structure).
+   Faces OpenMesh refused (0 without the half-edge structure); the JSON's
+   `halfedge.refused` lists them.
    */
   uintptr_t refused_faces;
+  /*
+   Boundary loops as a half-edge walk that continues within each fan counts them
+   (differs from `boundary_loops` at pinch vertices); −1 where a non-manifold edge or an
+   inconsistent orientation leaves it undefined.
+   */
+  int64_t boundary_loops_walk;
+  /*
+   Cross-caps, 2c − b − χ, when every component is a non-orientable manifold (Möbius
+   strip 1, Klein bottle 2), else −1.
+   */
+  int64_t non_orientable_genus;
 } SurfkitEatCounts;
 
 /*
@@ -695,7 +715,7 @@ int surfkit_fit(const double *uv,
 /*
  Evaluates σ (the filled surface where there is a hole, else the smoothing spline) at
  `count` parameter points `uv` into `xyz` (3 per point). Points outside the data's
- parameter rectangle are an error naming the point.
+ parameter rectangle are an error naming the point; on any failure `xyz` is all NaN.
 
  # Safety
  `spline` a live handle; `uv` of `2 · count`, `xyz` of `3 · count` doubles.
@@ -738,20 +758,25 @@ uint64_t surfkit_max_memory(void);
 
 /*
  Makes a mesh from `vertex_count` positions (x, y, z each), `face_count + 1` face offsets
- (face f is `face_indices[offsets[f] .. offsets[f + 1]]`, offsets[0] = 0) and
- `offsets[face_count]` vertex indices. Polygons of any arity; nothing is re-indexed.
+ (face f is `face_indices[face_offsets[f] .. face_offsets[f + 1]]`) and `index_count`
+ vertex indices. Polygons of any arity, also fewer than 3 corners (degenerate facets,
+ which the EAT counts); nothing is re-indexed.
 
- Errors: null arrays, decreasing offsets, an index ≥ `vertex_count` (the message names
- the face), a non-finite coordinate (names the vertex).
+ Checked before anything is copied: the copy's size against the memory limit
+ (`SURFKIT_RESOURCE_LIMIT`); `face_offsets[0] = 0`, offsets that never decrease and
+ `face_offsets[face_count] = index_count` (before an index is read); then every index
+ < `vertex_count` and every coordinate finite. Errors name the face or vertex at fault.
 
  # Safety
- The arrays must hold the announced numbers of elements; `out` must be writable.
+ `positions` must hold `3 · vertex_count` doubles, `face_offsets` `face_count + 1` and
+ `face_indices` `index_count` integers (null only for 0); `out` must be writable.
  */
 int surfkit_mesh_new(const double *positions,
                      uintptr_t vertex_count,
                      const uint32_t *face_offsets,
                      uintptr_t face_count,
                      const uint32_t *face_indices,
+                     uintptr_t index_count,
                      struct SurfkitMesh **out);
 
 /*
@@ -824,7 +849,7 @@ int surfkit_registry_set_vertex_count(struct SurfkitRegistry *registry, uint32_t
 /*
  Registers one facet (`corner_count` vertex ids, any arity ≥ 1); `input_id` is how the
  caller names it in reports (a face handle's index, say). `facet` (may be null) receives
- its position in the registry's Facet list. The registry keeps an item per vertex id up to
+ its position in the registry's Facet list, or `UINT32_MAX` when the call fails. The registry keeps an item per vertex id up to
  the largest (20 bytes each): an id whose items would pass the memory limit
  (`surfkit_set_max_memory`) is refused with `SURFKIT_RESOURCE_LIMIT`, naming the id and
  the memory, and nothing is registered.
@@ -940,7 +965,7 @@ int surfkit_limit_ptex_faces(const struct SurfkitLimit *limit,
 /*
  Evaluates `count` points (ptex face, u, v): `derivatives` receives 30 doubles per
  point — position, S_u, S_v, S_uu, S_uv, S_vv, S_uuu, S_uuv, S_uvv, S_vvv (x, y, z each),
- with respect to the ptex face's (u, v).
+ with respect to the ptex face's (u, v). On any failure `derivatives` is all NaN.
 
  # Safety
  `limit` must be a live handle; input arrays of `count` elements; `derivatives` of
@@ -957,7 +982,8 @@ int surfkit_limit_evaluate(const struct SurfkitLimit *limit,
  Unit normals (3 per point) and mean, Gaussian and principal curvatures (k1 ≥ k2) at
  `count` points; any output may be null. Signs: the normal is S_u × S_v normalized, and
  curvature is positive where the surface bends towards it. A point without a normal
- (vanishing tangents) is an error naming the point.
+ (vanishing tangents) is an error naming the point. On any failure the non-null outputs
+ are all NaN.
 
  # Safety
  `limit` must be a live handle; inputs of `count` elements; non-null outputs of

@@ -11,7 +11,7 @@ use surfkit::topology::{
 use surfkit::repair::check_fixes;
 
 use crate::mesh::SurfkitMesh;
-use crate::pointers::{give, output, reference, slice, take};
+use crate::pointers::{clear, give, output, reference, slice, take};
 use crate::status::{guard, Failure};
 
 /// Options of [`surfkit_eat_scan`]; start from [`surfkit_eat_options_default`].
@@ -59,7 +59,8 @@ pub unsafe extern "C" fn surfkit_eat_options_default(options: *mut SurfkitEatOpt
     })
 }
 
-/// The counts of a report, as `surfkit eat --json` gives them under `report.counts`.
+/// The counts of a report, as `surfkit eat --json` gives them under `report.counts` (with
+/// −1 for its nulls), and the number of faces OpenMesh refused.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct SurfkitEatCounts {
@@ -82,8 +83,16 @@ pub struct SurfkitEatCounts {
     pub coincident_vertices: usize,
     /// Non-zero when every test point was verified.
     pub verified: c_int,
-    /// Faces OpenMesh refused (0 without the half-edge structure).
+    /// Faces OpenMesh refused (0 without the half-edge structure); the JSON's
+    /// `halfedge.refused` lists them.
     pub refused_faces: usize,
+    /// Boundary loops as a half-edge walk that continues within each fan counts them
+    /// (differs from `boundary_loops` at pinch vertices); −1 where a non-manifold edge or an
+    /// inconsistent orientation leaves it undefined.
+    pub boundary_loops_walk: i64,
+    /// Cross-caps, 2c − b − χ, when every component is a non-orientable manifold (Möbius
+    /// strip 1, Klein bottle 2), else −1.
+    pub non_orientable_genus: i64,
 }
 
 /// A test point's outcome.
@@ -114,6 +123,22 @@ pub struct SurfkitFlaw {
     /// 1: applying the suggested fix removed the flaw (checked on a copy); 0: it did not;
     /// −1: not checked (`check_fixes` off).
     pub fix_verified: c_int,
+}
+
+impl SurfkitFlaw {
+    /// What a failed `surfkit_eat_report_flaw` leaves: null pointers, zero counts.
+    const EMPTY: SurfkitFlaw = SurfkitFlaw {
+        kind: std::ptr::null(),
+        vertices: std::ptr::null(),
+        vertex_count: 0,
+        faces: std::ptr::null(),
+        face_count: 0,
+        position: [0.0; 3],
+        component: 0,
+        description: std::ptr::null(),
+        suggested_fix: std::ptr::null(),
+        fix_verified: 0,
+    };
 }
 
 /// Texts of a flaw kept as C strings.
@@ -211,6 +236,7 @@ pub unsafe extern "C" fn surfkit_eat_scan(
     out: *mut *mut SurfkitEatReport,
 ) -> c_int {
     guard(|| {
+        clear(out, std::ptr::null_mut());
         let out = output(out, "out")?;
         let mesh = &reference(mesh, "mesh")?.mesh;
         let check = options.as_ref().is_none_or(|o| o.check_fixes != 0);
@@ -234,6 +260,7 @@ pub unsafe extern "C" fn surfkit_eat_report_counts(
     out: *mut SurfkitEatCounts,
 ) -> c_int {
     guard(|| {
+        clear(out, SurfkitEatCounts::default());
         let r = &reference(report, "report")?.report;
         let c = &r.counts;
         *output(out, "out")? = SurfkitEatCounts {
@@ -255,6 +282,10 @@ pub unsafe extern "C" fn surfkit_eat_report_counts(
             coincident_vertices: c.coincident_vertices,
             verified: r.verified() as c_int,
             refused_faces: r.halfedge.as_ref().map_or(0, |h| h.refused.len()),
+            boundary_loops_walk: c
+                .boundary_loops_walk
+                .map_or(-1, |n| i64::try_from(n).unwrap_or(i64::MAX)),
+            non_orientable_genus: c.non_orientable_genus.unwrap_or(-1),
         };
         Ok(())
     })
@@ -272,10 +303,9 @@ pub unsafe extern "C" fn surfkit_eat_report_test_point(
     out: *mut SurfkitTestPoint,
 ) -> c_int {
     guard(|| {
+        clear(count, 0);
+        clear(out, SurfkitTestPoint::default());
         let r = &reference(report, "report")?.report;
-        if let Some(count) = count.as_mut() {
-            *count = r.checkpoints.len();
-        }
         if let Some(out) = out.as_mut() {
             let (point, checkpoint) = r.checkpoints.get(index).ok_or_else(|| {
                 Failure::invalid(format!(
@@ -289,6 +319,9 @@ pub unsafe extern "C" fn surfkit_eat_report_test_point(
                 euler_characteristic: checkpoint.statistics.euler_characteristic,
                 verified: checkpoint.verified as c_int,
             };
+        }
+        if let Some(count) = count.as_mut() {
+            *count = r.checkpoints.len();
         }
         Ok(())
     })
@@ -304,6 +337,7 @@ pub unsafe extern "C" fn surfkit_eat_report_flaw_count(
     count: *mut usize,
 ) -> c_int {
     guard(|| {
+        clear(count, 0);
         *output(count, "count")? = reference(report, "report")?.report.flaws.len();
         Ok(())
     })
@@ -320,6 +354,7 @@ pub unsafe extern "C" fn surfkit_eat_report_flaw(
     out: *mut SurfkitFlaw,
 ) -> c_int {
     guard(|| {
+        clear(out, SurfkitFlaw::EMPTY);
         let r = reference(report, "report")?;
         let flaw = r.report.flaws.get(index).ok_or_else(|| {
             Failure::invalid(format!(
@@ -356,6 +391,7 @@ pub unsafe extern "C" fn surfkit_eat_report_json(
     out: *mut *const c_char,
 ) -> c_int {
     guard(|| {
+        clear(out, std::ptr::null());
         let out = output(out, "out")?;
         let r = report
             .as_mut()

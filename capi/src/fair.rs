@@ -12,7 +12,7 @@ use surfkit::fair::{
 };
 
 use crate::mesh::SurfkitMesh;
-use crate::pointers::{give, output, reference, slice, take};
+use crate::pointers::{clear, give, output, reference, slice, take};
 use crate::status::{guard, Failure};
 
 /// One Newton / Levenberg–Marquardt iteration, for progress display.
@@ -245,6 +245,8 @@ pub unsafe extern "C" fn surfkit_fair(
     out_report: *mut *mut SurfkitFairReport,
 ) -> c_int {
     guard(|| {
+        clear(out_mesh, std::ptr::null_mut());
+        clear(out_report, std::ptr::null_mut());
         let out_mesh = output(out_mesh, "out_mesh")?;
         let input = &reference(mesh, "mesh")?.mesh;
         let c_options = match options.as_ref() {
@@ -306,6 +308,7 @@ pub unsafe extern "C" fn surfkit_fair_report_summary(
     out: *mut SurfkitFairSummary,
 ) -> c_int {
     guard(|| {
+        clear(out, SurfkitFairSummary::default());
         let r = &reference(report, "report")?.report;
         let n = &r.newton;
         let before = r.initial_terms;
@@ -355,6 +358,7 @@ pub unsafe extern "C" fn surfkit_fair_report_json(
     out: *mut *const c_char,
 ) -> c_int {
     guard(|| {
+        clear(out, std::ptr::null());
         let out = output(out, "out")?;
         let r = report
             .as_mut()

@@ -8,7 +8,7 @@ use surfkit::fit::pipeline::{fit_and_fill, FitOutcome, FitSetup, HoleSource, Spa
 use surfkit::fit::shape::{ShapeConstraints, ShapePoint, Tau};
 use surfkit::fit::{data::ScatteredData, Hole, HoleShape};
 
-use crate::pointers::{give, output, reference, slice, slice_mut, take};
+use crate::pointers::{clear, give, output, reference, slice, slice_mut, take};
 use crate::status::{guard, Failure};
 
 /// Biquadratic C¹ B-splines (2022).
@@ -219,6 +219,7 @@ pub unsafe extern "C" fn surfkit_fit(
     out: *mut *mut SurfkitSpline,
 ) -> c_int {
     guard(|| {
+        clear(out, std::ptr::null_mut());
         let out = output(out, "out")?;
         let uv = slice(
             uv,
@@ -267,7 +268,7 @@ pub unsafe extern "C" fn surfkit_fit(
 
 /// Evaluates σ (the filled surface where there is a hole, else the smoothing spline) at
 /// `count` parameter points `uv` into `xyz` (3 per point). Points outside the data's
-/// parameter rectangle are an error naming the point.
+/// parameter rectangle are an error naming the point; on any failure `xyz` is all NaN.
 ///
 /// # Safety
 /// `spline` a live handle; `uv` of `2 · count`, `xyz` of `3 · count` doubles.
@@ -279,22 +280,27 @@ pub unsafe extern "C" fn surfkit_spline_evaluate(
     xyz: *mut f64,
 ) -> c_int {
     guard(|| {
-        let s = reference(spline, "spline")?;
-        let uv = slice(
-            uv,
+        let xyz = slice_mut(
+            xyz,
             count
-                .checked_mul(2)
+                .checked_mul(3)
                 .ok_or_else(|| Failure::invalid("count overflows"))?,
-            "uv",
+            "xyz",
         )?;
-        let xyz = slice_mut(xyz, count * 3, "xyz")?;
-        for (i, (p, x)) in uv.chunks_exact(2).zip(xyz.chunks_exact_mut(3)).enumerate() {
-            let value = s
-                .outcome
-                .eval(p[0], p[1])
-                .map_err(|e| Failure::from(e).at_point(i))?;
-            x.copy_from_slice(&value);
-        }
+        // NaN until every point is evaluated: a failed call leaves no stale numbers.
+        xyz.fill(f64::NAN);
+        let s = reference(spline, "spline")?;
+        let uv = slice(uv, count * 2, "uv")?;
+        let values = uv
+            .chunks_exact(2)
+            .enumerate()
+            .map(|(i, p)| {
+                s.outcome
+                    .eval(p[0], p[1])
+                    .map_err(|e| Failure::from(e).at_point(i))
+            })
+            .collect::<Result<Vec<[f64; 3]>, Failure>>()?;
+        xyz.copy_from_slice(values.as_flattened());
         Ok(())
     })
 }
@@ -310,6 +316,7 @@ pub unsafe extern "C" fn surfkit_spline_report_json(
     out: *mut *const c_char,
 ) -> c_int {
     guard(|| {
+        clear(out, std::ptr::null());
         let out = output(out, "out")?;
         let s = spline
             .as_mut()

@@ -80,6 +80,20 @@ pub(crate) unsafe fn output<'a, T>(ptr: *mut T, what: &str) -> Result<&'a mut T,
         .ok_or_else(|| Failure::invalid(format!("{what} (an output) is a null pointer")))
 }
 
+/// Sets the caller's output slot to `empty` (NULL for a handle or a borrowed pointer, 0 or
+/// an all-zero struct for a value) when the slot is not null. Every function with outputs
+/// calls this first, before anything can fail: a failed call (an error or a caught panic)
+/// then leaves its outputs at their empty value, never at a stale handle or pointer of an
+/// earlier call that a caller who does not check the status could use.
+///
+/// # Safety
+/// `ptr` must be null or point to writable storage of `T`.
+pub(crate) unsafe fn clear<T: Copy>(ptr: *mut T, empty: T) {
+    if !ptr.is_null() {
+        ptr.write(empty);
+    }
+}
+
 /// A NUL-terminated UTF-8 string.
 ///
 /// # Safety

@@ -6,7 +6,7 @@ use std::ffi::c_int;
 
 use surfkit::topology::ModelCompanion;
 
-use crate::pointers::{give, output, reference, slice, take};
+use crate::pointers::{clear, give, output, reference, slice, take};
 use crate::status::{guard, Failure};
 
 /// An opaque registry (free with [`surfkit_registry_free`]).
@@ -52,6 +52,7 @@ pub unsafe extern "C" fn surfkit_registry_new(
     out: *mut *mut SurfkitRegistry,
 ) -> c_int {
     guard(|| {
+        clear(out, std::ptr::null_mut());
         give(
             output(out, "out")?,
             SurfkitRegistry {
@@ -84,7 +85,7 @@ pub unsafe extern "C" fn surfkit_registry_set_vertex_count(
 
 /// Registers one facet (`corner_count` vertex ids, any arity ≥ 1); `input_id` is how the
 /// caller names it in reports (a face handle's index, say). `facet` (may be null) receives
-/// its position in the registry's Facet list. The registry keeps an item per vertex id up to
+/// its position in the registry's Facet list, or `UINT32_MAX` when the call fails. The registry keeps an item per vertex id up to
 /// the largest (20 bytes each): an id whose items would pass the memory limit
 /// (`surfkit_set_max_memory`) is refused with `SURFKIT_RESOURCE_LIMIT`, naming the id and
 /// the memory, and nothing is registered.
@@ -100,6 +101,7 @@ pub unsafe extern "C" fn surfkit_registry_add_facet(
     facet: *mut u32,
 ) -> c_int {
     guard(|| {
+        clear(facet, u32::MAX);
         let r = registry
             .as_mut()
             .ok_or_else(|| Failure::invalid("registry is a null pointer"))?;
@@ -132,6 +134,7 @@ pub unsafe extern "C" fn surfkit_registry_statistics(
     out: *mut SurfkitEatStatistics,
 ) -> c_int {
     guard(|| {
+        clear(out, SurfkitEatStatistics::default());
         let s = reference(registry, "registry")?.companion.statistics();
         *output(out, "out")? = SurfkitEatStatistics {
             vertices: s.vertices,
@@ -154,6 +157,7 @@ pub unsafe extern "C" fn surfkit_registry_checkpoint(
     out: *mut SurfkitCheckpoint,
 ) -> c_int {
     guard(|| {
+        clear(out, SurfkitCheckpoint::default());
         let out = output(out, "out")?;
         let r = registry
             .as_mut()
@@ -188,9 +192,12 @@ pub unsafe extern "C" fn surfkit_registry_suspects(
     count: *mut usize,
 ) -> c_int {
     guard(|| {
+        clear(input_ids, std::ptr::null());
+        clear(count, 0);
         let r = reference(registry, "registry")?;
-        *output(input_ids, "input_ids")? = r.suspects.as_ptr();
-        *output(count, "count")? = r.suspects.len();
+        let (ids, n) = (output(input_ids, "input_ids")?, output(count, "count")?);
+        *ids = r.suspects.as_ptr();
+        *n = r.suspects.len();
         Ok(())
     })
 }

@@ -9,8 +9,10 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 /// incompatibly (2: `SurfkitEatOptions.check_fixes` and `SurfkitFlaw.fix_verified`; 3:
 /// `SurfkitFairOptions.method` and `SurfkitFairSummary.method`; 4:
 /// `SurfkitFairOptions.coarse_start`, `SurfkitFairSummary.coarse_stage` and
-/// `coarse_start_used`). Compare with [`surfkit_abi_version`] at run time.
-pub const SURFKIT_ABI_VERSION: c_int = 4;
+/// `coarse_start_used`; 5: `surfkit_mesh_new` takes `index_count`,
+/// `SurfkitEatCounts.boundary_loops_walk` and `non_orientable_genus`). Compare with
+/// [`surfkit_abi_version`] at run time.
+pub const SURFKIT_ABI_VERSION: c_int = 5;
 
 /// Success.
 pub const SURFKIT_OK: c_int = 0;

@@ -10,7 +10,7 @@ use surfkit::subdiv::{
 };
 
 use crate::mesh::SurfkitMesh;
-use crate::pointers::{give, output, reference, slice, slice_mut, take};
+use crate::pointers::{clear, give, output, reference, slice, slice_mut, take};
 use crate::status::{guard, Failure};
 
 /// Boundary rule: no limit surface on boundary faces.
@@ -134,6 +134,7 @@ pub unsafe extern "C" fn surfkit_subdivide(
     out: *mut *mut SurfkitMesh,
 ) -> c_int {
     guard(|| {
+        clear(out, std::ptr::null_mut());
         let out = output(out, "out")?;
         let mesh = &reference(mesh, "mesh")?.mesh;
         let options = subdiv_options(options)?;
@@ -165,6 +166,7 @@ pub unsafe extern "C" fn surfkit_limit_new(
     out: *mut *mut SurfkitLimit,
 ) -> c_int {
     guard(|| {
+        clear(out, std::ptr::null_mut());
         let out = output(out, "out")?;
         let mesh = &reference(mesh, "mesh")?.mesh;
         let options = subdiv_options(options)?;
@@ -194,11 +196,14 @@ pub unsafe extern "C" fn surfkit_limit_ptex_faces(
     count: *mut u32,
 ) -> c_int {
     guard(|| {
+        clear(first, 0);
+        clear(count, 0);
         let range = reference(limit, "limit")?
             .surface
             .ptex_faces(face as usize)?;
-        *output(first, "first")? = range.start;
-        *output(count, "count")? = range.end - range.start;
+        let (first, count) = (output(first, "first")?, output(count, "count")?);
+        *first = range.start;
+        *count = range.end - range.start;
         Ok(())
     })
 }
@@ -219,7 +224,7 @@ unsafe fn points(
 
 /// Evaluates `count` points (ptex face, u, v): `derivatives` receives 30 doubles per
 /// point — position, S_u, S_v, S_uu, S_uv, S_vv, S_uuu, S_uuv, S_uvv, S_vvv (x, y, z each),
-/// with respect to the ptex face's (u, v).
+/// with respect to the ptex face's (u, v). On any failure `derivatives` is all NaN.
 ///
 /// # Safety
 /// `limit` must be a live handle; input arrays of `count` elements; `derivatives` of
@@ -234,7 +239,6 @@ pub unsafe extern "C" fn surfkit_limit_evaluate(
     derivatives: *mut f64,
 ) -> c_int {
     guard(|| {
-        let surface = &reference(limit, "limit")?.surface;
         let out = slice_mut(
             derivatives,
             count
@@ -242,6 +246,9 @@ pub unsafe extern "C" fn surfkit_limit_evaluate(
                 .ok_or_else(|| Failure::invalid("count overflows"))?,
             "derivatives",
         )?;
+        // NaN until every point is evaluated: a failed call leaves no stale numbers.
+        out.fill(f64::NAN);
+        let surface = &reference(limit, "limit")?.surface;
         for (d, chunk) in points(surface, count, ptex_faces, u, v)?
             .iter()
             .zip(out.chunks_exact_mut(30))
@@ -258,7 +265,8 @@ pub unsafe extern "C" fn surfkit_limit_evaluate(
 /// Unit normals (3 per point) and mean, Gaussian and principal curvatures (k1 ≥ k2) at
 /// `count` points; any output may be null. Signs: the normal is S_u × S_v normalized, and
 /// curvature is positive where the surface bends towards it. A point without a normal
-/// (vanishing tangents) is an error naming the point.
+/// (vanishing tangents) is an error naming the point. On any failure the non-null outputs
+/// are all NaN.
 ///
 /// # Safety
 /// `limit` must be a live handle; inputs of `count` elements; non-null outputs of
@@ -278,8 +286,6 @@ pub unsafe extern "C" fn surfkit_limit_curvature(
     k2: *mut f64,
 ) -> c_int {
     guard(|| {
-        let surface = &reference(limit, "limit")?.surface;
-        let derivatives = points(surface, count, ptex_faces, u, v)?;
         let optional = |p: *mut f64, n: usize, what: &str| -> Result<Option<&mut [f64]>, Failure> {
             if p.is_null() {
                 Ok(None)
@@ -287,15 +293,27 @@ pub unsafe extern "C" fn surfkit_limit_curvature(
                 slice_mut(p, n, what).map(Some)
             }
         };
-        let mut normals = optional(normals, count * 3, "normals")?;
+        let triples = count
+            .checked_mul(3)
+            .ok_or_else(|| Failure::invalid("count overflows"))?;
+        let mut normals = optional(normals, triples, "normals")?;
         let mut outputs = [
             optional(mean, count, "mean")?,
             optional(gaussian, count, "gaussian")?,
             optional(k1, count, "k1")?,
             optional(k2, count, "k2")?,
         ];
-        for (i, d) in derivatives.iter().enumerate() {
-            let c = curvature(d).map_err(|e| Failure::from(e).at_point(i))?;
+        // NaN until every point is evaluated: a failed call leaves no stale numbers.
+        for slot in outputs.iter_mut().chain([&mut normals]).flatten() {
+            slot.fill(f64::NAN);
+        }
+        let surface = &reference(limit, "limit")?.surface;
+        let curvatures = points(surface, count, ptex_faces, u, v)?
+            .iter()
+            .enumerate()
+            .map(|(i, d)| curvature(d).map_err(|e| Failure::from(e).at_point(i)))
+            .collect::<Result<Vec<_>, Failure>>()?;
+        for (i, c) in curvatures.iter().enumerate() {
             if let Some(n) = normals.as_deref_mut() {
                 n[3 * i..3 * i + 3].copy_from_slice(&c.normal);
             }

@@ -116,7 +116,7 @@ struct Flattened {
   MeshPtr make() const {
     SurfkitMesh* out = nullptr;
     check(surfkit_mesh_new(positions.data(), vertex_of.size(), offsets.data(), face_of.size(),
-                           indices.data(), &out));
+                           indices.data(), indices.size(), &out));
     return MeshPtr(out);
   }
 };
@@ -192,15 +192,29 @@ struct TestPoint {
   bool verified = false;
 };
 
-/// What eat() found; counts as `surfkit eat --json` gives them under report.counts.
+/// What eat() found; counts as `surfkit eat --json` gives them under report.counts (its
+/// nulls as −1), with `vertices` its vertices_referenced and `faces` its facets.
 struct EatReport {
-  size_t vertices = 0, edges = 0, faces = 0;
+  /// Every vertex of the mesh, and those a face uses.
+  size_t vertices_in_file = 0, vertices = 0;
+  size_t edges = 0, faces = 0;
   int64_t euler_characteristic = 0;
   size_t boundary_edges = 0, boundary_loops = 0, components = 0;
   size_t non_manifold_edges = 0, non_manifold_vertices = 0, unreferenced_vertices = 0;
   size_t duplicated_facets = 0, degenerate_facets = 0, coincident_vertices = 0;
+  /// Edges whose two facets traverse them in the same direction.
+  size_t inconsistent_orientation_edges = 0;
   /// Genus of a closed orientable manifold, else −1.
   int64_t genus = -1;
+  /// Cross-caps when every component is a non-orientable manifold (Möbius strip 1), else −1.
+  int64_t non_orientable_genus = -1;
+  /// Boundary loops walked half-edge by half-edge within each fan (differs from
+  /// boundary_loops at pinch vertices); −1 where a non-manifold edge or an inconsistent
+  /// orientation leaves it undefined.
+  int64_t boundary_loops_walk = -1;
+  /// Faces surfkit's own OpenMesh structure refused (report.halfedge.refused in the JSON;
+  /// 0 with EatOptions::halfedge off).
+  size_t refused_faces = 0;
   bool verified = true;
   std::vector<TestPoint> test_points;
   std::vector<Flaw> flaws;
@@ -214,6 +228,7 @@ inline EatReport read_eat_report(SurfkitEatReport* raw) {
   SurfkitEatCounts c{};
   check(surfkit_eat_report_counts(raw, &c));
   EatReport r;
+  r.vertices_in_file = c.vertices_in_file;
   r.vertices = c.vertices;
   r.edges = c.edges;
   r.faces = c.faces;
@@ -227,7 +242,11 @@ inline EatReport read_eat_report(SurfkitEatReport* raw) {
   r.duplicated_facets = c.duplicated_facets;
   r.degenerate_facets = c.degenerate_facets;
   r.coincident_vertices = c.coincident_vertices;
+  r.inconsistent_orientation_edges = c.inconsistent_orientation_edges;
   r.genus = c.genus;
+  r.non_orientable_genus = c.non_orientable_genus;
+  r.boundary_loops_walk = c.boundary_loops_walk;
+  r.refused_faces = c.refused_faces;
   r.verified = c.verified != 0;
   size_t points = 0;
   check(surfkit_eat_report_test_point(raw, 0, &points, nullptr));
@@ -607,6 +626,20 @@ struct FairReport {
 
 namespace detail {
 
+/// Recomputes the normals `mesh` has after its points moved, as update_normals() does;
+/// vertex and halfedge normals are made from face normals, so without those they are
+/// computed through face normals requested for the call.
+template <class Mesh>
+void update_normals(Mesh& mesh) {
+  if (mesh.has_face_normals()) {
+    mesh.update_normals();
+  } else if (mesh.has_vertex_normals() || mesh.has_halfedge_normals()) {
+    mesh.request_face_normals();
+    mesh.update_normals();
+    mesh.release_face_normals();
+  }
+}
+
 struct ProgressBridge {
   const std::function<bool(const FairIteration&)>* progress;
   std::exception_ptr error;
@@ -628,8 +661,10 @@ struct ProgressBridge {
 
 /// Optimizes the shape of the mesh's Catmull–Clark surface (Kiciak) and writes the
 /// optimized points back with set_point; topology and handles are untouched, fixed
-/// vertices keep their points bit for bit. The mesh must meet the method's conditions
-/// (quads, special vertices apart), since it is not refined here.
+/// vertices keep their points bit for bit. The normals the mesh has (face, vertex,
+/// halfedge) are then recomputed from the new points, as mesh.update_normals() computes
+/// them. The mesh must meet the method's conditions (quads, special vertices apart), since
+/// it is not refined here.
 template <class Mesh>
 FairReport fair(Mesh& mesh, const FairOptions& options = FairOptions{}) {
   detail::Flattened<Mesh> flat(mesh);
@@ -686,6 +721,7 @@ FairReport fair(Mesh& mesh, const FairOptions& options = FairOptions{}) {
     mesh.set_point(flat.vertex_of[v], typename Mesh::Point(static_cast<Scalar>(positions[3 * v]),
                                                            static_cast<Scalar>(positions[3 * v + 1]),
                                                            static_cast<Scalar>(positions[3 * v + 2])));
+  detail::update_normals(mesh);
   FairReport r;
   r.converged = s.converged != 0;
   r.cancelled = s.cancelled != 0;

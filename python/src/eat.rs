@@ -2,16 +2,18 @@
 //! eat --json` prints under "report" (the Python side turns it into its dict).
 
 use pyo3::prelude::*;
-use surfkit::topology::{scan, stage_ends, test_points, EatOptions, LocatorOptions, StageSource};
+use surfkit::topology::{
+    scan, stage_ends, test_points as checked_test_points, EatOptions, LocatorOptions, StageSource,
+};
 
-use crate::errors::{to_py, InvalidInput};
+use crate::errors::{natural_usize, signed, to_py, InvalidInput};
 use crate::mesh::Mesh;
 
-/// Scans `mesh` (GIL released): test points after `test_point_facets[i]` facets expecting
-/// χ = `expected_chi[i]` (one expected value and no facet counts: the whole mesh), then
-/// every flaw located, and each suggested fix checked when `check_fixes`.
+/// Scans `mesh` (GIL released): test points `(facets, expected χ)` (or `target`, the whole
+/// mesh's expected χ), then every flaw located, and each suggested fix checked when
+/// `check_fixes`. Out-of-range ints raise `InvalidInput` naming the test point or `target`.
 #[pyfunction]
-#[pyo3(signature = (mesh, *, weld_tolerance, crack_tolerance, halfedge, check_fixes, test_point_facets, expected_chi))]
+#[pyo3(signature = (mesh, *, weld_tolerance, crack_tolerance, halfedge, check_fixes, test_points, target))]
 // Each argument is a keyword argument of the Python function.
 #[allow(clippy::too_many_arguments)]
 pub fn eat_json(
@@ -21,9 +23,26 @@ pub fn eat_json(
     crack_tolerance: f64,
     halfedge: bool,
     check_fixes: bool,
-    test_point_facets: Vec<usize>,
-    expected_chi: Vec<i64>,
+    test_points: Vec<(Bound<'_, PyAny>, Bound<'_, PyAny>)>,
+    target: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
+    if target.is_some() && !test_points.is_empty() {
+        return Err(InvalidInput::new_err(
+            "give test_points or target, not both",
+        ));
+    }
+    let mut test_point_facets = Vec::with_capacity(test_points.len());
+    let mut expected_chi = Vec::with_capacity(test_points.len() + 1);
+    for (i, (facets, chi)) in test_points.iter().enumerate() {
+        test_point_facets.push(natural_usize(
+            facets,
+            &format!("test_points[{i}] facet count"),
+        )?);
+        expected_chi.push(signed(chi, &format!("test_points[{i}] expected χ"))?);
+    }
+    if let Some(chi) = &target {
+        expected_chi.push(signed(chi, "target")?);
+    }
     for (name, value) in [
         ("weld_tolerance", weld_tolerance),
         ("crack_tolerance", crack_tolerance),
@@ -47,7 +66,7 @@ pub fn eat_json(
             crack_tolerance,
         };
         let options = EatOptions {
-            test_points: test_points(&ends, &expected_chi)?,
+            test_points: checked_test_points(&ends, &expected_chi)?,
             locator,
             halfedge,
         };

@@ -56,20 +56,37 @@ pub fn to_py(e: surfkit::Error) -> PyErr {
     }
 }
 
-/// An integer argument from 0 to `max` (a count, a number of levels): PyO3's own
-/// `OverflowError` for a negative or oversized int names no argument, this `InvalidInput`
-/// names it. Other failures (not an int at all) stay PyO3's.
-pub fn natural(value: &Bound<'_, PyAny>, name: &str, max: u64) -> PyResult<u64> {
-    match value.extract::<u64>() {
-        Ok(n) if n <= max => Ok(n),
+/// An integer argument within `min ..= max` (a count, an id, a number of levels, an expected
+/// χ): PyO3's own `OverflowError` for an int outside the Rust type names no argument, this
+/// `InvalidInput` names the argument and the range. Other failures (not an int at all) stay
+/// PyO3's. Every int parameter of the module goes through here (or [`natural`] and its
+/// siblings, which call it).
+pub fn integer(value: &Bound<'_, PyAny>, name: &str, min: i128, max: i128) -> PyResult<i128> {
+    match value.extract::<i128>() {
+        Ok(n) if (min..=max).contains(&n) => Ok(n),
         Err(e) if !e.is_instance_of::<PyOverflowError>(value.py()) => Err(e),
         _ => Err(InvalidInput::new_err(format!(
-            "{name} {value} is out of range: it must be an integer from 0 to {max}"
+            "{name} {value} is out of range: it must be an integer from {min} to {max}"
         ))),
     }
 }
 
-/// [`natural`] for a `u32` argument.
+/// An integer argument from 0 to `max` (see [`integer`]).
+pub fn natural(value: &Bound<'_, PyAny>, name: &str, max: u64) -> PyResult<u64> {
+    integer(value, name, 0, max.into()).map(|n| n as u64)
+}
+
+/// [`natural`] for a `u32` argument (a vertex id, a level).
 pub fn natural_u32(value: &Bound<'_, PyAny>, name: &str) -> PyResult<u32> {
     natural(value, name, u64::from(u32::MAX)).map(|n| n as u32)
+}
+
+/// [`natural`] for a `usize` argument (a count).
+pub fn natural_usize(value: &Bound<'_, PyAny>, name: &str) -> PyResult<usize> {
+    natural(value, name, usize::MAX as u64).map(|n| n as usize)
+}
+
+/// [`integer`] for an `i64` argument (an expected Euler characteristic).
+pub fn signed(value: &Bound<'_, PyAny>, name: &str) -> PyResult<i64> {
+    integer(value, name, i64::MIN.into(), i64::MAX.into()).map(|n| n as i64)
 }

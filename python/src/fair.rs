@@ -10,7 +10,7 @@ use surfkit::fair::{
     optimize_observed, CoarseStart, FairMethod, FairOptions, Iteration, RepresentationOptions,
 };
 
-use crate::errors::{natural, to_py, InvalidInput};
+use crate::errors::{natural_u32, natural_usize, to_py, InvalidInput};
 use crate::mesh::Mesh;
 
 /// Optimizes `mesh` (GIL released between callbacks) and returns the optimized mesh and the
@@ -25,13 +25,13 @@ pub fn fair_json(
     py: Python<'_>,
     mesh: &Mesh,
     fixed: Vec<u32>,
-    boundary_rings: Option<u32>,
-    max_refinements: Option<u32>,
+    boundary_rings: Option<Bound<'_, PyAny>>,
+    max_refinements: Option<Bound<'_, PyAny>>,
     relative_gradient: Option<f64>,
     max_iterations: Option<Bound<'_, PyAny>>,
     surface: Option<String>,
-    isolation: Option<u32>,
-    nodes: Option<usize>,
+    isolation: Option<Bound<'_, PyAny>>,
+    nodes: Option<Bound<'_, PyAny>>,
     c_special: Option<f64>,
     regularization: Option<f64>,
     method: Option<String>,
@@ -51,10 +51,10 @@ pub fn fair_json(
         ..FairOptions::default()
     };
     if let Some(rings) = boundary_rings {
-        options.boundary_rings = rings;
+        options.boundary_rings = natural_u32(&rings, "boundary_rings")?;
     }
     if let Some(levels) = max_refinements {
-        options.max_refinements = levels;
+        options.max_refinements = natural_u32(&levels, "max_refinements")?;
     }
     match surface.as_deref() {
         None | Some("g2") => {}
@@ -72,10 +72,10 @@ pub fn fair_json(
         }
     }
     if let Some(level) = isolation {
-        options.representation.isolation = level;
+        options.representation.isolation = natural_u32(&level, "isolation")?;
     }
     if let Some(n) = nodes {
-        options.representation.nodes = n;
+        options.representation.nodes = natural_usize(&n, "nodes")?;
     }
     if let Some(c) = c_special {
         if !(c > 0.0 && c.is_finite()) {
@@ -116,7 +116,7 @@ pub fn fair_json(
         options.newton.relative_gradient = r;
     }
     if let Some(n) = max_iterations {
-        options.newton.max_iterations = natural(&n, "max_iterations", usize::MAX as u64)? as usize;
+        options.newton.max_iterations = natural_usize(&n, "max_iterations")?;
     }
 
     let mut raised: Option<PyErr> = None;

@@ -16,7 +16,7 @@ use surfkit::fit::shape::{ShapeConstraints, ShapePoint, Tau};
 use surfkit::fit::{data::ScatteredData, Hole, HoleShape};
 use surfkit::spline::{Hermite1d, Partition, TensorSpace};
 
-use crate::errors::{to_py, InvalidInput};
+use crate::errors::{natural, natural_usize, to_py, InvalidInput};
 
 /// A solved spline surface (u, v) → (x, y, z).
 #[pyclass(module = "surfkit._surfkit", frozen)]
@@ -183,6 +183,27 @@ fn tau(value: i8, what: &str) -> PyResult<Option<Tau>> {
     }
 }
 
+/// Cells per side `(u, v)` from the Python pair, each an int ≥ 0 that fits a `usize`
+/// (`InvalidInput` naming `cells[0]` or `cells[1]` otherwise; the methods check their own
+/// bounds).
+fn cells_from(cells: &(Bound<'_, PyAny>, Bound<'_, PyAny>)) -> PyResult<(usize, usize)> {
+    Ok((
+        natural_usize(&cells.0, "cells[0]")?,
+        natural_usize(&cells.1, "cells[1]")?,
+    ))
+}
+
+/// The 2024 shape conditions as the Python side passes them: (component, value, slope_u,
+/// slope_v, lattice, points (k, 2)).
+type PyShape<'py> = (
+    Bound<'py, PyAny>,
+    i8,
+    i8,
+    i8,
+    Bound<'py, PyAny>,
+    PyReadonlyArray2<'py, f64>,
+);
+
 /// Fits the smoothing spline to data `uv` (n, 2) → `xyz` (n, 3), optionally to a
 /// generalized offset (`offset_distances` (n, 3): d₁, d₂, d₃ at each data point), and fills
 /// the hole: `hole` shapes, or `hole_from_data` (cells without data). `shape` = (component,
@@ -196,14 +217,15 @@ pub fn fit_spline(
     uv: PyReadonlyArray2<'_, f64>,
     xyz: PyReadonlyArray2<'_, f64>,
     space_name: &str,
-    cells: (usize, usize),
+    cells: (Bound<'_, PyAny>, Bound<'_, PyAny>),
     epsilon: f64,
     hole_shapes: Vec<(String, Vec<f64>)>,
     hole_from_data: bool,
     exact_c1: bool,
     offset_distances: Option<PyReadonlyArray2<'_, f64>>,
-    shape: Option<(usize, i8, i8, i8, usize, PyReadonlyArray2<'_, f64>)>,
+    shape: Option<PyShape<'_>>,
 ) -> PyResult<Spline> {
+    let cells = cells_from(&cells)?;
     let params = rows::<2>(&uv, "uv")?;
     let points = rows::<3>(&xyz, "xyz")?;
     if params.len() != points.len() {
@@ -231,11 +253,9 @@ pub fn fit_spline(
     let shape = match shape {
         None => None,
         Some((component, value, slope_u, slope_v, lattice, extra)) => {
-            if component > 2 {
-                return Err(InvalidInput::new_err(format!(
-                    "shape component {component} must be 0, 1 or 2 (x, y, z)"
-                )));
-            }
+            // 0, 1 or 2: x, y or z.
+            let component = natural(&component, "shape_component", 2)? as usize;
+            let lattice = natural_usize(&lattice, "shape_lattice")?;
             Some(ShapeConstraints {
                 component,
                 value: tau(value, "shape value")?,
@@ -323,11 +343,13 @@ pub fn fit_parallel(
     xyz: PyReadonlyArray2<'_, f64>,
     b_uv: PyReadonlyArray2<'_, f64>,
     normals: PyReadonlyArray2<'_, f64>,
-    cells: (usize, usize),
+    cells: (Bound<'_, PyAny>, Bound<'_, PyAny>),
     epsilon: f64,
     tau: f64,
-    m: usize,
+    m: &Bound<'_, PyAny>,
 ) -> PyResult<Spline> {
+    let cells = cells_from(&cells)?;
+    let m = natural_usize(m, "m")?;
     let (a, values) = (rows::<2>(&uv, "uv")?, rows::<3>(&xyz, "xyz")?);
     let (b, normals) = (rows::<2>(&b_uv, "b_uv")?, rows::<3>(&normals, "normals")?);
     if a.is_empty() {

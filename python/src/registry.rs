@@ -8,7 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use surfkit::topology::ModelCompanion;
 
-use crate::errors::{natural, to_py, InvalidInput, SurfkitError};
+use crate::errors::{integer, natural, natural_u32, signed, to_py, InvalidInput, SurfkitError};
 
 /// Vertex ids a registry takes when the caller names no count: the registry keeps one item
 /// per id up to the largest seen, so an id is a size claim (16.7 M ids, about 0.4 GB).
@@ -74,9 +74,12 @@ impl EatRegistry {
     fn add_facet<'py>(
         &self,
         py: Python<'py>,
-        corners: Vec<i64>,
-        input_id: Option<u32>,
+        corners: Vec<Bound<'py, PyAny>>,
+        input_id: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let input_id = input_id
+            .map(|id| natural_u32(&id, "input_id"))
+            .transpose()?;
         let r = {
             let mut state = self.state()?;
             let position = state.companion.registry().facet_count();
@@ -87,15 +90,22 @@ impl EatRegistry {
                 )));
             }
             let mut ids = Vec::with_capacity(corners.len());
-            for v in corners {
-                if v < 0 || v as u64 >= state.vertex_limit {
-                    return Err(InvalidInput::new_err(format!(
-                        "facet {input_id} refers to vertex {v}, but the registry is for vertex \
-                         ids 0..{} (set vertex_count to raise it)",
-                        state.vertex_limit
-                    )));
-                }
-                ids.push(v as u32);
+            for v in &corners {
+                // An id past the bound (-1 and 2**70 too) names the facet and the bound.
+                let id = integer(v, "vertex id", 0, i128::from(state.vertex_limit) - 1).map_err(
+                    |e| {
+                        if e.is_instance_of::<InvalidInput>(py) {
+                            InvalidInput::new_err(format!(
+                                "facet {input_id} refers to vertex {v}, but the registry is for \
+                                 vertex ids 0..{} (set vertex_count to raise it)",
+                                state.vertex_limit
+                            ))
+                        } else {
+                            e
+                        }
+                    },
+                )?;
+                ids.push(id as u32);
             }
             state
                 .companion
@@ -117,7 +127,8 @@ impl EatRegistry {
 
     /// A test point: χ so far against `expected_chi`, as JSON; on a mismatch the facets
     /// since the last verified point with their counters.
-    fn checkpoint_json(&self, expected_chi: i64) -> PyResult<String> {
+    fn checkpoint_json(&self, expected_chi: &Bound<'_, PyAny>) -> PyResult<String> {
+        let expected_chi = signed(expected_chi, "expected_chi")?;
         json(&self.state()?.companion.checkpoint(expected_chi))
     }
 }

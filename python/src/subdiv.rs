@@ -9,14 +9,20 @@ use surfkit::subdiv::{
     PatchOptions, PatchSurface, SubdivOptions,
 };
 
-use crate::errors::{natural_u32, to_py, InvalidInput, TopologyError};
+use crate::errors::{natural, natural_u32, natural_usize, to_py, InvalidInput, TopologyError};
 use crate::mesh::Mesh;
 
-/// The subdivision options from the Python arguments (names as `surfkit subdivide`).
+/// A crease as the Python side passes it: (v0, v1, sharpness).
+type PyCrease<'py> = (Bound<'py, PyAny>, Bound<'py, PyAny>, f32);
+/// A corner as the Python side passes it: (v, sharpness).
+type PyCorner<'py> = (Bound<'py, PyAny>, f32);
+
+/// The subdivision options from the Python arguments (names as `surfkit subdivide`);
+/// vertex ids outside 32 bits raise `InvalidInput` naming the crease or corner.
 pub fn subdiv_options(
     boundary: &str,
-    creases: Vec<(u32, u32, f32)>,
-    corners: Vec<(u32, f32)>,
+    creases: Vec<PyCrease<'_>>,
+    corners: Vec<PyCorner<'_>>,
     creasing: &str,
 ) -> PyResult<SubdivOptions> {
     let boundary = match boundary {
@@ -53,7 +59,10 @@ pub fn subdiv_options(
             .enumerate()
             .map(|(i, (a, b, s))| {
                 Ok(Crease {
-                    vertices: [a, b],
+                    vertices: [
+                        natural_u32(&a, &format!("crease {i}: vertex"))?,
+                        natural_u32(&b, &format!("crease {i}: vertex"))?,
+                    ],
                     sharpness: sharp(s, format!("crease {i}"))?,
                 })
             })
@@ -63,7 +72,7 @@ pub fn subdiv_options(
             .enumerate()
             .map(|(i, (v, s))| {
                 Ok(Corner {
-                    vertex: v,
+                    vertex: natural_u32(&v, &format!("corner {i}: vertex"))?,
                     sharpness: sharp(s, format!("corner {i}"))?,
                 })
             })
@@ -83,8 +92,8 @@ pub fn subdivide(
     mesh: &Mesh,
     levels: &Bound<'_, PyAny>,
     boundary: &str,
-    creases: Vec<(u32, u32, f32)>,
-    corners: Vec<(u32, f32)>,
+    creases: Vec<PyCrease<'_>>,
+    corners: Vec<PyCorner<'_>>,
     creasing: &str,
 ) -> PyResult<Mesh> {
     let levels = natural_u32(levels, "levels")?;
@@ -110,12 +119,13 @@ impl LimitSurface {
     fn new(
         py: Python<'_>,
         mesh: &Mesh,
-        max_isolation: u32,
+        max_isolation: &Bound<'_, PyAny>,
         boundary: &str,
-        creases: Vec<(u32, u32, f32)>,
-        corners: Vec<(u32, f32)>,
+        creases: Vec<PyCrease<'_>>,
+        corners: Vec<PyCorner<'_>>,
         creasing: &str,
     ) -> PyResult<Self> {
+        let max_isolation = natural_u32(max_isolation, "max_isolation")?;
         let options = subdiv_options(boundary, creases, corners, creasing)?;
         let patch_options = PatchOptions {
             max_isolation,
@@ -136,7 +146,8 @@ impl LimitSurface {
 
     /// The ptex faces of control face `face` as (first, count); an n-gon's ptex face i
     /// starts at its corner i.
-    fn ptex_faces(&self, face: usize) -> PyResult<(u32, u32)> {
+    fn ptex_faces(&self, face: &Bound<'_, PyAny>) -> PyResult<(u32, u32)> {
+        let face = natural_usize(face, "face")?;
         let range = self.surface.ptex_faces(face).map_err(to_py)?;
         Ok((range.start, range.end - range.start))
     }
@@ -151,14 +162,10 @@ impl LimitSurface {
         faces: PyReadonlyArray1<'py, u32>,
         u: PyReadonlyArray1<'py, f64>,
         v: PyReadonlyArray1<'py, f64>,
-        derivatives: u32,
+        derivatives: &Bound<'py, PyAny>,
         curvature: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
-        if derivatives > 3 {
-            return Err(InvalidInput::new_err(format!(
-                "derivatives {derivatives} must be 0, 1, 2 or 3"
-            )));
-        }
+        let derivatives = natural(derivatives, "derivatives", 3)? as u32;
         if curvature && derivatives < 2 {
             return Err(InvalidInput::new_err(
                 "curvature needs derivatives ≥ 2 (it is made of the second derivatives)",

@@ -88,14 +88,6 @@ def eat(
     """
     if test_points is not None and target is not None:
         raise InvalidInput("give test_points or target, not both")
-    facets: list[int] = []
-    expected: list[int] = []
-    if test_points is not None:
-        for f, chi in test_points:
-            facets.append(int(f))
-            expected.append(int(chi))
-    elif target is not None:
-        expected.append(int(target))
     report = json.loads(
         eat_json(
             mesh,
@@ -103,8 +95,8 @@ def eat(
             crack_tolerance=float(crack_tolerance),
             halfedge=bool(halfedge),
             check_fixes=bool(check_fixes),
-            test_point_facets=facets,
-            expected_chi=expected,
+            test_points=[(int(f), int(chi)) for f, chi in (test_points or [])],
+            target=None if target is None else int(target),
         )
     )
     return _measures(mesh, report)

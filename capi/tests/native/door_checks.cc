@@ -3,7 +3,9 @@
 // naming the element, never an abort; a throwing progress callback is rethrown, a
 // cancelling one stops the run; 1000 create/free cycles of every handle leak nothing; the
 // process's memory limit is set, enforced (also on the EAT registry's vertex ids) and
-// restored; EatCompanion keeps degenerate facets from OpenMesh; a whole-mesh test point.
+// restored; EatCompanion keeps degenerate facets from OpenMesh; a whole-mesh test point; a
+// failed call clears its outputs; surfkit_mesh_new checks its offsets against index_count;
+// EatReport has the JSON report's counts; fair() leaves the mesh's normals up to date.
 // Prints "ok: N checks" and exits 0, or names the failed check and exits 1.
 #include <surfkit/openmesh.hh>
 
@@ -59,25 +61,25 @@ static void bad_input() {
   std::vector<double> p;
   std::vector<uint32_t> o, idx;
   cube(p, o, idx);
-  EXPECT(surfkit_mesh_new(nullptr, 8, o.data(), 6, idx.data(), &m) == SURFKIT_INVALID_INPUT && says("positions"));
+  EXPECT(surfkit_mesh_new(nullptr, 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT && says("positions"));
   EXPECT(m == nullptr);
-  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), nullptr) == SURFKIT_INVALID_INPUT && says("out"));
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), idx.size(), nullptr) == SURFKIT_INVALID_INPUT && says("out"));
   std::vector<uint32_t> wrong = idx;
   wrong[5] = 99;
-  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, wrong.data(), &m) == SURFKIT_INVALID_INPUT &&
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, wrong.data(), wrong.size(), &m) == SURFKIT_INVALID_INPUT &&
          says("face 1 refers to vertex 99"));
   std::vector<double> nan = p;
   nan[7] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT(surfkit_mesh_new(nan.data(), 8, o.data(), 6, idx.data(), &m) == SURFKIT_INVALID_INPUT &&
+  EXPECT(surfkit_mesh_new(nan.data(), 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT &&
          says("vertex 2 has a non-finite coordinate"));
   std::vector<uint32_t> decreasing = {0, 4, 2, 12, 16, 20, 24};
-  EXPECT(surfkit_mesh_new(p.data(), 8, decreasing.data(), 6, idx.data(), &m) == SURFKIT_INVALID_INPUT &&
+  EXPECT(surfkit_mesh_new(p.data(), 8, decreasing.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT &&
          says("decrease at face 1"));
   EXPECT(surfkit_mesh_read("/nonexistent/surfkit.obj", &m) == SURFKIT_IO && says("/nonexistent/surfkit.obj"));
   SurfkitEatReport* r = nullptr;
   EXPECT(surfkit_eat_scan(nullptr, nullptr, &r) == SURFKIT_INVALID_INPUT && says("mesh is a null pointer"));
 
-  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), &m) == SURFKIT_OK);
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_OK);
   EXPECT(std::strlen(surfkit_last_error()) == 0);
   EXPECT(surfkit_eat_scan(m, nullptr, &r) == SURFKIT_OK);
   SurfkitFlaw f;
@@ -97,8 +99,9 @@ static void bad_input() {
   ptex = 0;
   u = 2.0;
   EXPECT(surfkit_limit_evaluate(limit, 1, &ptex, &u, &v, d) == SURFKIT_INVALID_INPUT && says("outside [0, 1]"));
-  EXPECT(surfkit_limit_new(m, nullptr, 11, &limit) == SURFKIT_INVALID_INPUT && says("max_isolation 11"));
   surfkit_limit_free(limit);
+  EXPECT(surfkit_limit_new(m, nullptr, 11, &limit) == SURFKIT_INVALID_INPUT && says("max_isolation 11"));
+  EXPECT(limit == nullptr);
   surfkit_mesh_free(m);
 
   SurfkitRegistry* reg = nullptr;
@@ -145,6 +148,297 @@ static void bad_input() {
   EXPECT(c.facets == 3 && c.edges == 7 && c.vertices == 5 && c.euler_characteristic == 1 && c.verified);
 }
 
+/// A stand-in for a pointer an earlier call left in an output: a failed call must not leave
+/// it there (nor leave the slot untouched).
+template <class T>
+static T* stale() {
+  static char storage[64];
+  return reinterpret_cast<T*>(storage);
+}
+
+static bool all_nan(const double* x, size_t n) {
+  for (size_t i = 0; i < n; ++i)
+    if (!std::isnan(x[i])) return false;
+  return true;
+}
+
+/// A failed call sets every output it was given to its empty value (header: handles and
+/// pointers NULL, counts and structs zero, the registry's facet UINT32_MAX, result arrays
+/// NaN), so a caller that does not check the status finds no stale pointer or number.
+static void failed_calls_clear_outputs() {
+  std::vector<double> p;
+  std::vector<uint32_t> o, idx;
+  cube(p, o, idx);
+  SurfkitMesh* m = stale<SurfkitMesh>();
+  EXPECT(surfkit_mesh_new(nullptr, 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT);
+  EXPECT(m == nullptr);
+  m = stale<SurfkitMesh>();
+  EXPECT(surfkit_mesh_read("/nonexistent/surfkit.obj", &m) == SURFKIT_IO && m == nullptr);
+  size_t nv = 7, nf = 7, ni = 7;
+  EXPECT(surfkit_mesh_counts(nullptr, &nv, &nf, &ni) == SURFKIT_INVALID_INPUT && nv == 0 && nf == 0 && ni == 0);
+  const double* pp = stale<const double>();
+  const uint32_t* po = stale<const uint32_t>();
+  const uint32_t* pi = stale<const uint32_t>();
+  EXPECT(surfkit_mesh_arrays(nullptr, &pp, &po, &pi) == SURFKIT_INVALID_INPUT);
+  EXPECT(pp == nullptr && po == nullptr && pi == nullptr);
+
+  // The EAT: a scan refused for its options, and the accessors of a live report asked
+  // for what it does not have (after a successful call filled the same outputs).
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_OK);
+  SurfkitEatOptions eo{};
+  EXPECT(surfkit_eat_options_default(&eo) == SURFKIT_OK);
+  eo.weld_tolerance = -1;
+  SurfkitEatReport* r = stale<SurfkitEatReport>();
+  EXPECT(surfkit_eat_scan(m, &eo, &r) == SURFKIT_INVALID_INPUT && says("weld_tolerance") && r == nullptr);
+  const int64_t chi = 2;
+  eo.weld_tolerance = 0;
+  eo.test_point_expected = &chi;
+  eo.test_point_count = 1;
+  EXPECT(surfkit_eat_scan(m, &eo, &r) == SURFKIT_OK && r != nullptr);
+  SurfkitEatCounts counts{};
+  EXPECT(surfkit_eat_report_counts(r, &counts) == SURFKIT_OK && counts.faces == 6);
+  EXPECT(surfkit_eat_report_counts(nullptr, &counts) == SURFKIT_INVALID_INPUT);
+  EXPECT(counts.faces == 0 && counts.vertices == 0 && counts.euler_characteristic == 0 && counts.genus == 0);
+  size_t points = 0;
+  SurfkitTestPoint t{};
+  EXPECT(surfkit_eat_report_test_point(r, 0, &points, &t) == SURFKIT_OK && points == 1 && t.facets == 6);
+  EXPECT(surfkit_eat_report_test_point(r, 1, &points, &t) == SURFKIT_INVALID_INPUT && says("test point 1"));
+  EXPECT(points == 0 && t.facets == 0 && t.expected_euler_characteristic == 0 && t.verified == 0);
+  size_t flaws = 9;
+  EXPECT(surfkit_eat_report_flaw_count(nullptr, &flaws) == SURFKIT_INVALID_INPUT && flaws == 0);
+  SurfkitFlaw f;
+  f.kind = stale<const char>();
+  f.vertices = stale<const uint32_t>();
+  f.vertex_count = 3;
+  f.faces = stale<const uint32_t>();
+  f.face_count = 2;
+  f.description = f.suggested_fix = stale<const char>();
+  EXPECT(surfkit_eat_report_flaw(r, 0, &f) == SURFKIT_INVALID_INPUT && says("flaw 0 out of range"));
+  EXPECT(f.kind == nullptr && f.vertices == nullptr && f.vertex_count == 0 && f.faces == nullptr &&
+         f.face_count == 0 && f.description == nullptr && f.suggested_fix == nullptr);
+  const char* json = stale<const char>();
+  EXPECT(surfkit_eat_report_json(nullptr, &json) == SURFKIT_INVALID_INPUT && json == nullptr);
+  surfkit_eat_report_free(r);
+
+  // Fairing: a closed mesh with nothing fixed is refused; both outputs are cleared.
+  SurfkitMesh* faired = stale<SurfkitMesh>();
+  SurfkitFairReport* fr = stale<SurfkitFairReport>();
+  EXPECT(surfkit_fair(m, nullptr, &faired, &fr) != SURFKIT_OK && faired == nullptr && fr == nullptr);
+  SurfkitFairSummary summary;
+  summary.iterations = 5;
+  summary.f_after = 1.5;
+  EXPECT(surfkit_fair_report_summary(nullptr, &summary) == SURFKIT_INVALID_INPUT);
+  EXPECT(summary.iterations == 0 && summary.f_after == 0);
+  json = stale<const char>();
+  EXPECT(surfkit_fair_report_json(nullptr, &json) == SURFKIT_INVALID_INPUT && json == nullptr);
+
+  // Subdivision and the limit surface.
+  SurfkitMesh* fine = stale<SurfkitMesh>();
+  EXPECT(surfkit_subdivide(m, 11, nullptr, &fine) == SURFKIT_INVALID_INPUT && fine == nullptr);
+  SurfkitLimit* limit = stale<SurfkitLimit>();
+  EXPECT(surfkit_limit_new(m, nullptr, 0, &limit) == SURFKIT_INVALID_INPUT && limit == nullptr);
+  EXPECT(surfkit_limit_new(m, nullptr, 4, &limit) == SURFKIT_OK);
+  uint32_t first = 3, count = 1;
+  EXPECT(surfkit_limit_ptex_faces(limit, 6, &first, &count) == SURFKIT_INVALID_INPUT && first == 0 && count == 0);
+  EXPECT(surfkit_limit_ptex_faces(limit, 2, &first, &count) == SURFKIT_OK && first == 2 && count == 1);
+  EXPECT(surfkit_limit_ptex_faces(limit, 2, &first, nullptr) == SURFKIT_INVALID_INPUT && first == 0);
+  uint32_t ptex[2] = {0, 6};
+  double u[2] = {0.5, 0.5}, v[2] = {0.5, 0.5}, d[60];
+  std::fill(d, d + 60, 1.0);
+  EXPECT(surfkit_limit_evaluate(limit, 1, ptex, u, v, d) == SURFKIT_OK && !std::isnan(d[0]) && d[30] == 1.0);
+  EXPECT(surfkit_limit_evaluate(limit, 2, ptex, u, v, d) == SURFKIT_INVALID_INPUT && all_nan(d, 60));
+  double normals[6] = {1, 1, 1, 1, 1, 1}, mean[2] = {1, 1}, k2[2] = {1, 1};
+  EXPECT(surfkit_limit_curvature(limit, 2, ptex, u, v, normals, mean, nullptr, nullptr, k2) == SURFKIT_INVALID_INPUT);
+  EXPECT(all_nan(normals, 6) && all_nan(mean, 2) && all_nan(k2, 2));
+  surfkit_limit_free(limit);
+  surfkit_mesh_free(m);
+
+  // The registry.
+  SurfkitRegistry* reg = nullptr;
+  EXPECT(surfkit_registry_new(3, &reg) == SURFKIT_OK);
+  uint32_t facet = 5;
+  const uint32_t tri[3] = {0, 1, 2}, far[3] = {0, 1, 9};
+  EXPECT(surfkit_registry_add_facet(reg, tri, 3, 0, &facet) == SURFKIT_OK && facet == 0);
+  EXPECT(surfkit_registry_add_facet(reg, far, 3, 1, &facet) == SURFKIT_INVALID_INPUT && facet == UINT32_MAX);
+  SurfkitCheckpoint cp{};
+  EXPECT(surfkit_registry_checkpoint(reg, 2, &cp) == SURFKIT_OK && !cp.verified && cp.statistics.facets == 1);
+  EXPECT(surfkit_registry_checkpoint(nullptr, 2, &cp) == SURFKIT_INVALID_INPUT);
+  EXPECT(cp.statistics.facets == 0 && cp.expected_euler_characteristic == 0);
+  SurfkitEatStatistics st{};
+  EXPECT(surfkit_registry_statistics(reg, &st) == SURFKIT_OK && st.facets == 1);
+  EXPECT(surfkit_registry_statistics(nullptr, &st) == SURFKIT_INVALID_INPUT && st.facets == 0 && st.vertices == 0);
+  const uint32_t* suspects = stale<const uint32_t>();
+  size_t suspect_count = 4;
+  EXPECT(surfkit_registry_suspects(nullptr, &suspects, &suspect_count) == SURFKIT_INVALID_INPUT);
+  EXPECT(suspects == nullptr && suspect_count == 0);
+  suspects = stale<const uint32_t>();
+  EXPECT(surfkit_registry_suspects(reg, &suspects, nullptr) == SURFKIT_INVALID_INPUT && suspects == nullptr);
+  surfkit_registry_free(reg);
+
+  // Splines.
+  double data_uv[2] = {0, 0}, data_xyz[3] = {0, 0, std::numeric_limits<double>::quiet_NaN()};
+  SurfkitSpline* s = stale<SurfkitSpline>();
+  EXPECT(surfkit_fit(data_uv, data_xyz, 1, nullptr, &s) == SURFKIT_INVALID_INPUT && s == nullptr);
+  std::vector<double> grid_uv, grid_xyz;
+  for (int j = 0; j < 10; ++j)
+    for (int i = 0; i < 10; ++i) {
+      double x = i / 9.0, y = j / 9.0;
+      grid_uv.insert(grid_uv.end(), {x, y});
+      grid_xyz.insert(grid_xyz.end(), {x, y, x * y});
+    }
+  SurfkitFitOptions fit;
+  surfkit_fit_options_default(&fit);
+  fit.cells_u = fit.cells_v = 2;
+  EXPECT(surfkit_fit(grid_uv.data(), grid_xyz.data(), 100, &fit, &s) == SURFKIT_OK);
+  double at[4] = {0.5, 0.5, 2.0, 0.5}, xyz[6] = {1, 1, 1, 1, 1, 1};
+  EXPECT(surfkit_spline_evaluate(s, 2, at, xyz) == SURFKIT_INVALID_INPUT && says("point 1") && all_nan(xyz, 6));
+  EXPECT(surfkit_spline_evaluate(s, 1, at, xyz) == SURFKIT_OK && std::abs(xyz[2] - 0.25) < 1e-6);
+  json = stale<const char>();
+  EXPECT(surfkit_spline_report_json(nullptr, &json) == SURFKIT_INVALID_INPUT && json == nullptr);
+  surfkit_spline_free(s);
+}
+
+/// surfkit_mesh_new checks the offsets against index_count before it reads an index, and
+/// the size of its copy against the memory limit before it reads anything: a wrong count
+/// is an error naming the face, never a read past the caller's arrays.
+static void mesh_new_checks_its_arrays() {
+  std::vector<double> p;
+  std::vector<uint32_t> o, idx;
+  cube(p, o, idx);
+  SurfkitMesh* m = nullptr;
+  // The last offset must be the index count: one more announced, or one fewer.
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), 23, &m) == SURFKIT_INVALID_INPUT && m == nullptr);
+  EXPECT(says("face 5 ends at face_offsets[6] = 24 but index_count is 23"));
+  // A corrupt last offset (4 000 000 000 indices claimed) is caught without reading them.
+  std::vector<uint32_t> huge_end = o;
+  huge_end.back() = 4000000000u;
+  EXPECT(surfkit_mesh_new(p.data(), 8, huge_end.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT);
+  EXPECT(says("face 5 ends at face_offsets[6] = 4000000000 but index_count is 24") && m == nullptr);
+  std::vector<uint32_t> late_start = o;
+  late_start[0] = 1;
+  EXPECT(surfkit_mesh_new(p.data(), 8, late_start.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT);
+  EXPECT(says("face_offsets[0] is 1: face 0 must start at index 0"));
+  std::vector<uint32_t> decreasing = {0, 4, 8, 12, 11, 20, 24};
+  EXPECT(surfkit_mesh_new(p.data(), 8, decreasing.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT);
+  EXPECT(says("face_offsets decrease at face 3: it starts at 12 and ends at 11"));
+  // No face: the one offset is 0 and there is no index.
+  const uint32_t zero = 0, one = 1;
+  EXPECT(surfkit_mesh_new(p.data(), 8, &one, 0, nullptr, 0, &m) == SURFKIT_INVALID_INPUT && says("face_offsets[0] is 1"));
+  EXPECT(surfkit_mesh_new(p.data(), 8, &zero, 0, nullptr, 0, &m) == SURFKIT_OK);
+  size_t nv = 0, nf = 9, ni = 9;
+  EXPECT(surfkit_mesh_counts(m, &nv, &nf, &ni) == SURFKIT_OK && nv == 8 && nf == 0 && ni == 0);
+  surfkit_mesh_free(m);
+  // Degenerate facets (2 corners, 1 corner) are taken: the EAT counts them.
+  const uint32_t short_offsets[4] = {0, 3, 5, 6}, short_faces[6] = {0, 1, 2, 2, 3, 4};
+  m = nullptr;
+  EXPECT(surfkit_mesh_new(p.data(), 8, short_offsets, 3, short_faces, 6, &m) == SURFKIT_OK);
+  SurfkitEatReport* r = nullptr;
+  EXPECT(surfkit_eat_scan(m, nullptr, &r) == SURFKIT_OK);
+  SurfkitEatCounts c{};
+  EXPECT(surfkit_eat_report_counts(r, &c) == SURFKIT_OK && c.faces == 3 && c.degenerate_facets == 2);
+  surfkit_eat_report_free(r);
+  surfkit_mesh_free(m);
+  // A size past the memory limit is refused before the arrays are read: the positions
+  // announced here (2²⁰ vertices, 24 MiB to copy) do not exist.
+  EXPECT(surfkit_set_max_memory(uint64_t(16) << 20) == SURFKIT_OK);
+  m = stale<SurfkitMesh>();
+  EXPECT(surfkit_mesh_new(p.data(), size_t(1) << 20, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_RESOURCE_LIMIT);
+  EXPECT(m == nullptr && says("1048576 vertices, 6 faces and 24 face indices") && says("memory limit of 16 MiB"));
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), SIZE_MAX / 8, idx.data(), idx.size(), &m) == SURFKIT_RESOURCE_LIMIT);
+  EXPECT(surfkit_set_max_memory(0) == SURFKIT_OK);
+}
+
+/// A soup through the C door's scan, read back as the C++ layer's EatReport.
+static surfkit::EatReport eat_soup(const std::vector<double>& p, const std::vector<uint32_t>& o,
+                                   const std::vector<uint32_t>& idx) {
+  SurfkitMesh* m = nullptr;
+  EXPECT(surfkit_mesh_new(p.data(), p.size() / 3, o.data(), o.size() - 1, idx.data(), idx.size(), &m) == SURFKIT_OK);
+  SurfkitEatReport* raw = nullptr;
+  EXPECT(surfkit_eat_scan(m, nullptr, &raw) == SURFKIT_OK);
+  surfkit::EatReport r = surfkit::detail::read_eat_report(raw);
+  surfkit_eat_report_free(raw);
+  surfkit_mesh_free(m);
+  return r;
+}
+
+static bool json_has(const surfkit::EatReport& r, const std::string& pair) {
+  return r.json.find(pair) != std::string::npos;
+}
+
+/// EatReport carries every count of the JSON report (report.counts, and the refused faces
+/// of report.halfedge): the values equal the JSON's.
+static void eat_report_has_the_json_counts() {
+  // Two triangles running edge 1–2 the same way (OpenMesh refuses the second) and a vertex
+  // no face uses.
+  surfkit::EatReport r = eat_soup({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 5, 5, 5}, {0, 3, 6}, {0, 1, 2, 1, 2, 3});
+  EXPECT(r.vertices_in_file == 5 && json_has(r, "\"vertices_in_file\":5"));
+  EXPECT(r.vertices == 4 && json_has(r, "\"vertices_referenced\":4"));
+  EXPECT(r.inconsistent_orientation_edges == 1 && json_has(r, "\"inconsistent_orientation_edges\":1"));
+  EXPECT(r.refused_faces == 1 && json_has(r, "\"refused\":[[1,"));
+  EXPECT(r.boundary_loops_walk == -1 && json_has(r, "\"boundary_loops_walk\":null"));
+  EXPECT(r.non_orientable_genus == -1 && json_has(r, "\"non_orientable_genus\":null"));
+  // Two triangles sharing only vertex 0: one boundary graph, two loops walked fan by fan.
+  r = eat_soup({0, 0, 0, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0}, {0, 3, 6}, {0, 1, 2, 0, 3, 4});
+  EXPECT(r.boundary_loops == 1 && json_has(r, "\"boundary_loops\":1"));
+  EXPECT(r.boundary_loops_walk == 2 && json_has(r, "\"boundary_loops_walk\":2"));
+  EXPECT(r.vertices_in_file == 5 && r.inconsistent_orientation_edges == 0 && r.refused_faces == 0);
+  // A Möbius strip of four quads (the last one twisted): one cross-cap.
+  std::vector<double> p;
+  for (int i = 0; i < 4; ++i) p.insert(p.end(), {double(i), 0.0, 1.0});  // t0..t3
+  for (int i = 0; i < 4; ++i) p.insert(p.end(), {double(i), 0.5, 0.0});  // b0..b3
+  r = eat_soup(p, {0, 4, 8, 12, 16}, {0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 4, 0, 7});
+  EXPECT(r.euler_characteristic == 0 && r.boundary_loops == 1);
+  EXPECT(r.non_orientable_genus == 1 && json_has(r, "\"non_orientable_genus\":1"));
+  EXPECT(r.genus == -1 && json_has(r, "\"genus\":null"));
+  EXPECT(r.inconsistent_orientation_edges == 1 && r.refused_faces == 1);
+  // Through eat(mesh): an OpenMesh grid with a vertex of its own.
+  Mesh m = grid(4, 0.5f);
+  m.add_vertex(Mesh::Point(9, 9, 9));
+  r = surfkit::eat(m);
+  EXPECT(r.vertices_in_file == 26 && r.vertices == 25 && r.unreferenced_vertices == 1);
+  EXPECT(r.boundary_loops_walk == 1 && json_has(r, "\"boundary_loops_walk\":1"));
+  EXPECT(r.refused_faces == 0 && r.inconsistent_orientation_edges == 0 && r.non_orientable_genus == -1);
+}
+
+/// fair() writes new points and then the normals the mesh has are those OpenMesh computes
+/// from them (not the stale ones of the old points), for every combination of normals.
+static void fair_updates_the_normals() {
+  for (int variant = 0; variant < 3; ++variant) {
+    Mesh m = grid(6, 1.0f);
+    const bool faces = variant != 1, vertices = variant != 2;
+    if (faces) m.request_face_normals();
+    if (vertices) m.request_vertex_normals();
+    if (variant == 0) m.request_halfedge_normals();
+    m.update_normals();
+    if (!faces)  // vertex normals only: OpenMesh's update_normals() leaves them; set them
+      for (auto vh : m.vertices()) m.set_normal(vh, Mesh::Normal(0, 0, 1));
+    const Mesh before = m;
+    surfkit::FairOptions options;
+    options.boundary_rings = 1;
+    surfkit::FairReport q = surfkit::fair(m, options);
+    EXPECT(q.converged && q.s_after < q.s_before);
+    EXPECT(m.has_face_normals() == faces && m.has_vertex_normals() == vertices);
+    // What OpenMesh computes from the new points.
+    Mesh expected = m;
+    expected.request_face_normals();
+    expected.update_normals();
+    size_t moved = 0;
+    if (faces)
+      for (auto fh : m.faces()) {
+        EXPECT(m.normal(fh) == expected.normal(fh));
+        moved += m.normal(fh) != before.normal(fh);
+      }
+    if (vertices)
+      for (auto vh : m.vertices()) {
+        EXPECT(m.normal(vh) == expected.normal(vh));
+        moved += m.normal(vh) != before.normal(vh);
+      }
+    if (variant == 0)
+      for (auto hh : m.halfedges()) EXPECT(m.normal(hh) == expected.normal(hh));
+    EXPECT(moved > 10);
+  }
+}
+
 static void callbacks() {
   // A throwing progress callback: the exception reaches the caller, nothing aborts.
   Mesh m = grid(6, 1.0f);
@@ -183,7 +477,7 @@ static void cycles() {
   fit.cells_u = fit.cells_v = 2;
   for (int k = 0; k < 1000; ++k) {
     SurfkitMesh* m = nullptr;
-    EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), &m) == SURFKIT_OK);
+    EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_OK);
     SurfkitEatReport* r = nullptr;
     EXPECT(surfkit_eat_scan(m, nullptr, &r) == SURFKIT_OK);
     const char* json = nullptr;
@@ -206,7 +500,7 @@ static void cycles() {
     EXPECT(surfkit_fit(uv.data(), xyz.data(), 100, &fit, &s) == SURFKIT_OK);
     surfkit_spline_free(s);
     // An error path allocates a message too.
-    EXPECT(surfkit_mesh_new(nullptr, 8, o.data(), 6, idx.data(), &m) == SURFKIT_INVALID_INPUT);
+    EXPECT(surfkit_mesh_new(nullptr, 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_INVALID_INPUT);
   }
   // Fairing handles: a small plate, one iteration each.
   surfkit::detail::Flattened<Mesh> flat(plate);
@@ -336,7 +630,7 @@ static void memory_limit() {
   std::vector<double> p;
   std::vector<uint32_t> o, idx;
   cube(p, o, idx);
-  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), &m) == SURFKIT_OK);
+  EXPECT(surfkit_mesh_new(p.data(), 8, o.data(), 6, idx.data(), idx.size(), &m) == SURFKIT_OK);
   // 8 levels make 24 · 4^7 = 393 216 quads, about 126 MB at 320 bytes each.
   SurfkitMesh* fine = nullptr;
   EXPECT(surfkit_subdivide(m, 8, nullptr, &fine) == SURFKIT_RESOURCE_LIMIT && fine == nullptr);
@@ -435,7 +729,7 @@ static void whole_mesh_test_point() {
   std::vector<uint32_t> off, idx;
   cube(p, off, idx);
   SurfkitMesh* cm = nullptr;
-  EXPECT(surfkit_mesh_new(p.data(), 8, off.data(), 6, idx.data(), &cm) == SURFKIT_OK);
+  EXPECT(surfkit_mesh_new(p.data(), 8, off.data(), 6, idx.data(), idx.size(), &cm) == SURFKIT_OK);
   SurfkitEatOptions co{};
   EXPECT(surfkit_eat_options_default(&co) == SURFKIT_OK);
   const int64_t chi = 2;
@@ -469,6 +763,10 @@ int main() {
   coarse_start_option();
   companion_degenerate_faces();
   whole_mesh_test_point();
+  failed_calls_clear_outputs();
+  mesh_new_checks_its_arrays();
+  eat_report_has_the_json_counts();
+  fair_updates_the_normals();
   std::cout << "ok: " << checks << " checks" << std::endl;
   return 0;
 }
