@@ -370,23 +370,37 @@ fn candidates(
             }
             let grid =
                 vertex_grid.get_or_insert_with(|| VertexGrid::new(&vertices, positions, cell));
-            grid.near_segment(pa, pb, reach, &mut near);
-            let mut on: Vec<OnEdge> = near
-                .iter()
-                .filter(|&&v| v != a && v != b)
-                .filter_map(|&v| {
-                    foot_on_segment(positions[v as usize], pa, pb, reach)
-                        .map(|(t, off)| (t, v, off / distance(pa, pb)))
-                })
-                .collect();
+            let on = on_edge(grid, positions, (a, b), reach, &mut near);
             if !on.is_empty() {
-                on.sort_by(|x, y| x.0.total_cmp(&y.0));
-                on.dedup_by_key(|x| x.1);
                 found.insert((w, k), on);
             }
         }
     }
     found
+}
+
+/// The boundary vertices of `grid` within `reach` of edge a–b's inside, other than its ends,
+/// by their place along it, each once: the edge's candidates.
+fn on_edge(
+    grid: &VertexGrid,
+    positions: &[[f64; 3]],
+    (a, b): (u32, u32),
+    reach: f64,
+    near: &mut Vec<u32>,
+) -> Vec<OnEdge> {
+    let (pa, pb) = (positions[a as usize], positions[b as usize]);
+    grid.near_segment(pa, pb, reach, near);
+    let mut on: Vec<OnEdge> = near
+        .iter()
+        .filter(|&&v| v != a && v != b)
+        .filter_map(|&v| {
+            foot_on_segment(positions[v as usize], pa, pb, reach)
+                .map(|(t, off)| (t, v, off / distance(pa, pb)))
+        })
+        .collect();
+    on.sort_by(|x, y| x.0.total_cmp(&y.0));
+    on.dedup_by_key(|x| x.1);
+    on
 }
 
 fn undirected(a: u32, b: u32) -> (u32, u32) {
@@ -626,18 +640,8 @@ mod tests {
                 let (a, b) = (walk[k], walk[(k + 1) % walk.len()]);
                 let (pa, pb) = (positions[a as usize], positions[b as usize]);
                 let reach = tolerance * distance(pa, pb);
-                grid.near_segment(pa, pb, reach, &mut near);
-                let mut on: Vec<OnEdge> = near
-                    .iter()
-                    .filter(|&&v| v != a && v != b)
-                    .filter_map(|&v| {
-                        foot_on_segment(positions[v as usize], pa, pb, reach)
-                            .map(|(t, off)| (t, v, off / distance(pa, pb)))
-                    })
-                    .collect();
+                let on = on_edge(&grid, positions, (a, b), reach, &mut near);
                 if !on.is_empty() {
-                    on.sort_by(|x, y| x.0.total_cmp(&y.0));
-                    on.dedup_by_key(|x| x.1);
                     found.insert((w, k), on);
                 }
             }
