@@ -291,6 +291,36 @@ impl Joins {
 }
 
 /// Median of the boundary edges' lengths (0 for none).
+/// The walks' edges, the grid's cell (their median length) and their vertices, sorted:
+/// what the candidate search starts from. `None` when no edge has a length or the
+/// tolerance is not positive (no candidate then).
+struct BoundaryScale {
+    edges: Vec<(u32, u32)>,
+    cell: f64,
+    vertices: Vec<u32>,
+}
+
+impl BoundaryScale {
+    fn of(walks: &[Vec<u32>], positions: &[[f64; 3]], tolerance: f64) -> Option<Self> {
+        let edges: Vec<(u32, u32)> = walks
+            .iter()
+            .flat_map(|w| (0..w.len()).map(move |k| (w[k], w[(k + 1) % w.len()])))
+            .collect();
+        let cell = median_length(&edges, positions);
+        if cell.is_nan() || cell <= 0.0 || tolerance <= 0.0 {
+            return None;
+        }
+        let mut vertices: Vec<u32> = walks.iter().flatten().copied().collect();
+        vertices.sort_unstable();
+        vertices.dedup();
+        Some(BoundaryScale {
+            edges,
+            cell,
+            vertices,
+        })
+    }
+}
+
 fn median_length(edges: &[(u32, u32)], positions: &[[f64; 3]]) -> f64 {
     let mut lengths: Vec<f64> = edges
         .iter()
@@ -327,17 +357,14 @@ fn candidates(
     facet_uses: &impl Fn(u32, u32, u32) -> bool,
 ) -> FxHashMap<EdgeKey, Vec<OnEdge>> {
     let mut found = FxHashMap::new();
-    let edges: Vec<(u32, u32)> = walks
-        .iter()
-        .flat_map(|w| (0..w.len()).map(move |k| (w[k], w[(k + 1) % w.len()])))
-        .collect();
-    let cell = median_length(&edges, positions);
-    if cell.is_nan() || cell <= 0.0 || tolerance <= 0.0 {
+    let Some(BoundaryScale {
+        edges,
+        cell,
+        vertices,
+    }) = BoundaryScale::of(walks, positions, tolerance)
+    else {
         return found;
-    }
-    let mut vertices: Vec<u32> = walks.iter().flatten().copied().collect();
-    vertices.sort_unstable();
-    vertices.dedup();
+    };
     let groups = PositionGroups::new(&vertices, positions);
     let group_ids: Vec<u32> = (0..groups.at.len() as u32).collect();
     // The same cells as the vertices' grid below, so the same positions come near an edge.
@@ -622,17 +649,11 @@ mod tests {
         tolerance: f64,
     ) -> FxHashMap<EdgeKey, Vec<OnEdge>> {
         let mut found = FxHashMap::new();
-        let edges: Vec<(u32, u32)> = walks
-            .iter()
-            .flat_map(|w| (0..w.len()).map(move |k| (w[k], w[(k + 1) % w.len()])))
-            .collect();
-        let cell = median_length(&edges, positions);
-        if cell.is_nan() || cell <= 0.0 || tolerance <= 0.0 {
+        let Some(BoundaryScale { cell, vertices, .. }) =
+            BoundaryScale::of(walks, positions, tolerance)
+        else {
             return found;
-        }
-        let mut vertices: Vec<u32> = walks.iter().flatten().copied().collect();
-        vertices.sort_unstable();
-        vertices.dedup();
+        };
         let grid = VertexGrid::new(&vertices, positions, cell);
         let mut near = Vec::new();
         for (w, walk) in walks.iter().enumerate() {
