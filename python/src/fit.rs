@@ -49,14 +49,16 @@ impl Spline {
 #[pymethods]
 impl Spline {
     /// ∂^(a+b)σ/∂u^a∂v^b at every (u[i], v[i]), an (n, 3) array; a point outside the
-    /// parameter rectangle raises `InvalidInput` naming it.
+    /// parameter rectangle, or an order out of range or above the spline's degree, raises
+    /// `InvalidInput` naming it.
     fn derivative<'py>(
         &self,
         py: Python<'py>,
         uv: PyReadonlyArray2<'py, f64>,
-        a: usize,
-        b: usize,
+        a: &Bound<'py, PyAny>,
+        b: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let (a, b) = (natural_usize(a, "u order")?, natural_usize(b, "v order")?);
         let uv = uv.as_array();
         if uv.ncols() != 2 {
             return Err(InvalidInput::new_err(format!(

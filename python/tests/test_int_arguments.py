@@ -184,6 +184,14 @@ CASES: list[tuple[str, Callable[[int], Any], str, int, int, tuple[int, ...]]] = 
         U64,
         (-1, 2**64),
     ),
+    (
+        "spline derivative order",
+        lambda x: _fill(cells=(4, 4))._native.derivative(np.array([[0.5, 0.5]]), x, 0),
+        "u order",
+        0,
+        U64,
+        (-1, 2**64),
+    ),
     ("fit_parallel cells", lambda x: _fit_parallel(cells=(3, x)), "cells[1]", 0, U64, (-1,)),
     ("fit_parallel m", lambda x: _fit_parallel(m=x), "m", 0, U64, (-3, 2**64)),
     (
@@ -236,5 +244,10 @@ def test_ints_within_range_still_work() -> None:
     surface = surfkit.LimitSurface(torus, max_isolation=2)
     assert surface.ptex_faces(3) == (3, 1)
     assert set(surface.evaluate([0], 0.5, 0.5, derivatives=3, curvature=False)) >= {"duuu"}
+    centre = np.array([[0.5, 0.5]])
+    spline = _fill(cells=(4, 4))._native
+    assert spline.derivative(centre, 1, 0)[0] == pytest.approx([1, 0, 1], abs=1e-8)
+    with pytest.raises(surfkit.InvalidInput, match="above the spline's degree"):
+        spline.derivative(centre, 0, 2**40)
     fine = surfkit.subdivide(torus, 1, creases=[(0, 1, 2.0)], corners=[(2, 3.0)])
     assert fine.face_count == 4 * torus.face_count
