@@ -218,9 +218,10 @@ typedef struct SurfkitEatOptions {
   double crack_tolerance;
   /*
    Test points: after `test_point_facets[i]` facets, χ must be `test_point_expected[i]`
-   (`test_point_count` of each; a last test point at the whole mesh is added when the
-   last count is not the face count). With one expected value and no facet counts
-   (`test_point_facets` null), the whole mesh is the one test point.
+   (`test_point_count` of each, in non-decreasing facet counts; the whole mesh is
+   checked only as a pair of its own, its face count, or as below). With one expected
+   value and no facet counts (`test_point_facets` null), the whole mesh is the one test
+   point.
    */
   const uintptr_t *test_point_facets;
   const int64_t *test_point_expected;

@@ -5,7 +5,7 @@
 use std::ffi::{c_char, c_int, CString};
 
 use surfkit::topology::{
-    scan, stage_ends, test_points, EatOptions, EatReport, LocatorOptions, StageSource,
+    paired_test_points, scan, stage_ends, EatOptions, EatReport, LocatorOptions, StageSource,
 };
 
 use surfkit::repair::check_fixes;
@@ -26,9 +26,10 @@ pub struct SurfkitEatOptions {
     /// a T-vertex on it (a crack); default 0.01.
     pub crack_tolerance: f64,
     /// Test points: after `test_point_facets[i]` facets, χ must be `test_point_expected[i]`
-    /// (`test_point_count` of each; a last test point at the whole mesh is added when the
-    /// last count is not the face count). With one expected value and no facet counts
-    /// (`test_point_facets` null), the whole mesh is the one test point.
+    /// (`test_point_count` of each, in non-decreasing facet counts; the whole mesh is
+    /// checked only as a pair of its own, its face count, or as below). With one expected
+    /// value and no facet counts (`test_point_facets` null), the whole mesh is the one test
+    /// point.
     pub test_point_facets: *const usize,
     pub test_point_expected: *const i64,
     pub test_point_count: usize,
@@ -216,7 +217,7 @@ unsafe fn options_from(
     };
     let ends = stage_ends(mesh, &source)?;
     Ok(EatOptions {
-        test_points: test_points(&ends, expected)?,
+        test_points: paired_test_points(&ends, expected)?,
         locator: LocatorOptions {
             weld_tolerance: o.weld_tolerance,
             crack_tolerance: o.crack_tolerance,

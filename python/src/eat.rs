@@ -3,7 +3,7 @@
 
 use pyo3::prelude::*;
 use surfkit::topology::{
-    scan, stage_ends, test_points as checked_test_points, EatOptions, LocatorOptions, StageSource,
+    paired_test_points, scan, stage_ends, EatOptions, LocatorOptions, StageSource,
 };
 
 use crate::errors::{natural_usize, signed, to_py, InvalidInput};
@@ -66,7 +66,7 @@ pub fn eat_json(
             crack_tolerance,
         };
         let options = EatOptions {
-            test_points: checked_test_points(&ends, &expected_chi)?,
+            test_points: paired_test_points(&ends, &expected_chi)?,
             locator,
             halfedge,
         };

@@ -99,6 +99,33 @@ def test_test_points_and_target() -> None:
         surfkit.eat(torus, target=0, test_points=[(32, 0)])
 
 
+def prefix_euler_characteristic(mesh: surfkit.Mesh, facets: int) -> int:
+    """V − E + F of the first `facets` faces, counted here (vertices and undirected edges
+    they use)."""
+    idx, off = mesh.face_indices, mesh.face_offsets
+    faces = [list(idx[off[f] : off[f + 1]]) for f in range(facets)]
+    vertices = {v for face in faces for v in face}
+    edges = {
+        frozenset((face[k], face[(k + 1) % len(face)])) for face in faces for k in range(len(face))
+    }
+    return len(vertices) - len(edges) + facets
+
+
+def test_test_points_short_of_the_face_count_are_checked_where_given() -> None:
+    torus = surfkit.read_mesh(MESHES / "catmark_torus.obj")
+    chi = {f: prefix_euler_characteristic(torus, f) for f in (4, 8)}
+    one = surfkit.eat(torus, test_points=[(4, chi[4])])
+    assert [(p["facets"], p["expected_euler_characteristic"]) for p in one["test_points"]] == [
+        (4, chi[4])
+    ]
+    assert one["test_points"][0]["euler_characteristic"] == chi[4] and one["verified"]
+    wrong = surfkit.eat(torus, test_points=[(4, chi[4] + 1)])
+    assert not wrong["verified"] and wrong["test_points"][0]["facets"] == 4
+    two = surfkit.eat(torus, test_points=[(4, chi[4]), (8, chi[8])])
+    assert [p["facets"] for p in two["test_points"]] == [4, 8] and two["verified"]
+    assert two["euler_characteristic"] == 0
+
+
 def test_every_form_of_faces_gives_the_same_mesh() -> None:
     v = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0]], dtype=np.float64)
     quads = surfkit.Mesh(v, np.array([[0, 1, 2, 3]]))

@@ -31,7 +31,7 @@ pub use registry::{EatRegistry, EdgeItem, FacetRegistration, VertexItem};
 pub use scan::{
     scan, ComponentTopology, EatOptions, EatReport, HalfEdgeReport, TestPoint, TopologyCounts,
 };
-pub use stages::{stage_ends, test_points, StageSource};
+pub use stages::{paired_test_points, stage_ends, test_points, StageSource};
 pub use statistics::EatStatistics;
 pub use structure::Structure;
 pub use target::TargetTopology;

@@ -110,9 +110,56 @@ pub fn test_points(ends: &[(String, usize)], expected: &[i64]) -> Result<Vec<Tes
     }
 }
 
+/// Test points given as (facet count, expected χ) pairs, as the C, C++ and Python doors
+/// take them: the i-th stage end with the i-th value. The whole-mesh stage that
+/// [`stage_ends`] adds after a last count short of the face count is scanned but not
+/// checked (the CLI's rule of [`test_points`], one value for the last stage, would move a
+/// single pair's χ to the whole mesh).
+///
+/// # Errors
+/// [`Error::InvalidInput`] when there are more values than stages.
+pub fn paired_test_points(ends: &[(String, usize)], expected: &[i64]) -> Result<Vec<TestPoint>> {
+    if expected.len() > ends.len() {
+        return Err(Error::InvalidInput(format!(
+            "{} expected Euler characteristics for {} test points",
+            expected.len(),
+            ends.len()
+        )));
+    }
+    Ok(ends
+        .iter()
+        .zip(expected)
+        .map(|((label, facets), &expected)| TestPoint {
+            label: label.clone(),
+            facets: *facets,
+            expected,
+        })
+        .collect())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// One pair short of the face count is checked where it was given, not at the whole
+    /// mesh (which [`test_points`]' one-value rule would pick).
+    #[test]
+    fn pairs_check_their_own_stage() {
+        let ends = vec![
+            ("facets 1-4".to_string(), 4),
+            ("facets 1-32".to_string(), 32),
+        ];
+        let paired = paired_test_points(&ends, &[1]).unwrap();
+        assert_eq!(paired.len(), 1);
+        assert_eq!((paired[0].facets, paired[0].expected), (4, 1));
+        assert_eq!(test_points(&ends, &[1]).unwrap()[0].facets, 32);
+        let both = paired_test_points(&ends, &[1, 0]).unwrap();
+        assert_eq!(
+            both.iter().map(|p| p.facets).collect::<Vec<_>>(),
+            vec![4, 32]
+        );
+        assert!(paired_test_points(&ends, &[1, 0, 0]).is_err());
+    }
 
     #[test]
     fn label_runs_end_stages() {

@@ -219,6 +219,17 @@ static void failed_calls_clear_outputs() {
   const char* json = stale<const char>();
   EXPECT(surfkit_eat_report_json(nullptr, &json) == SURFKIT_INVALID_INPUT && json == nullptr);
   surfkit_eat_report_free(r);
+  // Test points short of the face count are checked where given: the cube's bottom and top
+  // (V 8, E 8, F 2: χ 2), then a side (E 10, F 3: χ 1); the whole mesh is not checked.
+  const size_t stage_facets[] = {2, 3};
+  const int64_t stage_chi[] = {2, 1};
+  eo.test_point_facets = stage_facets;
+  eo.test_point_expected = stage_chi;
+  eo.test_point_count = 2;
+  EXPECT(surfkit_eat_scan(m, &eo, &r) == SURFKIT_OK && r != nullptr);
+  EXPECT(surfkit_eat_report_test_point(r, 1, &points, &t) == SURFKIT_OK && points == 2 && t.facets == 3 &&
+         t.expected_euler_characteristic == 1 && t.euler_characteristic == 1 && t.verified == 1);
+  surfkit_eat_report_free(r);
 
   // Fairing: a closed mesh with nothing fixed is refused; both outputs are cleared.
   SurfkitMesh* faired = stale<SurfkitMesh>();
