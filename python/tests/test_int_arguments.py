@@ -43,6 +43,13 @@ def _fill(**options: Any) -> surfkit.Spline:
     return surfkit.fill(uv, xyz, **options)
 
 
+def _shape_fill(**options: Any) -> surfkit.Spline:
+    """A BFS C¹ fill of an elliptic hole kept positive (the shape options' calls)."""
+    return _fill(
+        hole=[("ellipse", (0.5, 0.5, 1, 1, 0.04))], space="bfs-c1", shape=["positive"], **options
+    )
+
+
 def _fit_parallel(**options: Any) -> surfkit.Spline:
     uv, xyz = _data()
     normals = np.tile([0.0, 0.0, 1.0], (len(uv), 1))
@@ -160,12 +167,7 @@ CASES: list[tuple[str, Callable[[int], Any], str, int, int, tuple[int, ...]]] = 
     ("fit cells v", lambda x: surfkit.fit(*_data(), cells=(4, x)), "cells[1]", 0, U64, (-5,)),
     (
         "fill shape_component",
-        lambda x: _fill(
-            hole=[("ellipse", (0.5, 0.5, 1, 1, 0.04))],
-            space="bfs-c1",
-            shape=["positive"],
-            shape_component=x,
-        ),
+        lambda x: _shape_fill(shape_component=x),
         "shape_component",
         0,
         2,
@@ -173,12 +175,7 @@ CASES: list[tuple[str, Callable[[int], Any], str, int, int, tuple[int, ...]]] = 
     ),
     (
         "fill shape_lattice",
-        lambda x: _fill(
-            hole=[("ellipse", (0.5, 0.5, 1, 1, 0.04))],
-            space="bfs-c1",
-            shape=["positive"],
-            shape_lattice=x,
-        ),
+        lambda x: _shape_fill(shape_lattice=x),
         "shape_lattice",
         0,
         U64,

@@ -95,15 +95,11 @@ pub fn stage_ends(mesh: &PolygonMesh, source: &StageSource) -> Result<Vec<(Strin
 /// # Errors
 /// [`Error::InvalidInput`] when the number of expectations fits neither rule.
 pub fn test_points(ends: &[(String, usize)], expected: &[i64]) -> Result<Vec<TestPoint>> {
-    let point = |(label, facets): &(String, usize), expected: i64| TestPoint {
-        label: label.clone(),
-        facets: *facets,
-        expected,
-    };
     match (ends.len(), expected.len()) {
         (_, 0) => Ok(Vec::new()),
-        (n, m) if n == m => Ok(ends.iter().zip(expected).map(|(e, &x)| point(e, x)).collect()),
-        (_, 1) => Ok(vec![point(ends.last().unwrap(), expected[0])]),
+        (n, m) if n == m => paired_test_points(ends, expected),
+        // The last stage (none on a mesh without faces: refused by the pairing).
+        (n, 1) => paired_test_points(&ends[n.saturating_sub(1)..], expected),
         (n, m) => Err(Error::InvalidInput(format!(
             "{m} expected Euler characteristics for {n} stages: give one per stage or one for the whole mesh"
         ))),

@@ -50,6 +50,16 @@ static Mesh grid(int n, float bump) {
 }
 
 /// A cube of 6 quads (closed).
+/// The saddle z = xy sampled on a 10 × 10 grid of [0, 1]²: (u, v) = (x, y).
+static void saddle_samples(std::vector<double>& uv, std::vector<double>& xyz) {
+  for (int j = 0; j < 10; ++j)
+    for (int i = 0; i < 10; ++i) {
+      double x = i / 9.0, y = j / 9.0;
+      uv.insert(uv.end(), {x, y});
+      xyz.insert(xyz.end(), {x, y, x * y});
+    }
+}
+
 static void cube(std::vector<double>& p, std::vector<uint32_t>& o, std::vector<uint32_t>& idx) {
   p = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
   idx = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
@@ -291,12 +301,7 @@ static void failed_calls_clear_outputs() {
   SurfkitSpline* s = stale<SurfkitSpline>();
   EXPECT(surfkit_fit(data_uv, data_xyz, 1, nullptr, &s) == SURFKIT_INVALID_INPUT && s == nullptr);
   std::vector<double> grid_uv, grid_xyz;
-  for (int j = 0; j < 10; ++j)
-    for (int i = 0; i < 10; ++i) {
-      double x = i / 9.0, y = j / 9.0;
-      grid_uv.insert(grid_uv.end(), {x, y});
-      grid_xyz.insert(grid_xyz.end(), {x, y, x * y});
-    }
+  saddle_samples(grid_uv, grid_xyz);
   SurfkitFitOptions fit;
   surfkit_fit_options_default(&fit);
   fit.cells_u = fit.cells_v = 2;
@@ -477,12 +482,7 @@ static void cycles() {
   cube(p, o, idx);
   Mesh plate = grid(4, 1.0f);
   std::vector<double> uv, xyz;
-  for (int j = 0; j < 10; ++j)
-    for (int i = 0; i < 10; ++i) {
-      double x = i / 9.0, y = j / 9.0;
-      uv.insert(uv.end(), {x, y});
-      xyz.insert(xyz.end(), {x, y, x * y});
-    }
+  saddle_samples(uv, xyz);
   SurfkitFitOptions fit;
   surfkit_fit_options_default(&fit);
   fit.cells_u = fit.cells_v = 2;
