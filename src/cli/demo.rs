@@ -171,8 +171,9 @@ pub fn run(args: &DemoArgs) -> crate::Result<ExitCode> {
     )?;
     println!("wrote:");
     println!(
-        "  {}  (the flawed stamp, stages as OBJ groups: try surfkit eat --stages groups on it)",
-        stamp_path.display()
+        "  {}  (the flawed stamp, stages as OBJ groups: try surfkit eat --stages groups --target \"{}\" on it)",
+        stamp_path.display(),
+        targets.join(";")
     );
     println!(
         "  {}  (flawed vertices coloured for MeshLab)",

@@ -116,6 +116,18 @@ pub(super) fn expected_chis(args: &EatArgs) -> Result<Vec<i64>> {
         let report = scan(&reference, &EatOptions::default())?;
         return Ok(vec![report.statistics.euler_characteristic]);
     }
+    // Test points are only reported where a χ is checked: without one they would be
+    // dropped in silence and the command would pass.
+    let placed = [
+        ("--stages", args.stages.is_some()),
+        ("--test-points", !args.test_points.is_empty()),
+        ("--every", args.every.is_some()),
+    ];
+    if let Some((option, _)) = placed.iter().find(|(_, given)| *given) {
+        return Err(Error::InvalidInput(format!(
+            "{option} places test points but no χ is given to check at them: add --expect, --target or --reference"
+        )));
+    }
     Ok(Vec::new())
 }
 

@@ -97,13 +97,20 @@ fn kinds(args: &RepairArgs) -> Result<Vec<FlawKind>> {
 }
 
 fn expected(args: &RepairArgs) -> Result<Vec<i64>> {
-    match &args.target {
+    let expected: Vec<i64> = match &args.target {
         Some(t) => t
             .split(';')
             .map(|s| TargetTopology::parse(s).map(|t| t.euler_characteristic()))
-            .collect(),
-        None => Ok(args.expect.clone()),
+            .collect::<Result<_>>()?,
+        None => args.expect.clone(),
+    };
+    // Without a χ the stages' test points would be dropped in silence.
+    if expected.is_empty() && args.stages.is_some() {
+        return Err(Error::InvalidInput(
+            "--stages places test points but no χ is given to check at them: add --expect or --target".into(),
+        ));
     }
+    Ok(expected)
 }
 
 /// The EAT with the command's test points on `mesh`.

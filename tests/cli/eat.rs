@@ -202,3 +202,63 @@ fn suggested_fixes_are_checked_by_applying_them() {
         }
     }
 }
+
+/// Test points without a χ to check at them were dropped in silence: `eat --every 100`
+/// printed no test point and passed. Each way of placing them is refused, naming the
+/// option, on one file and on several; `repair --stages` alike, writing nothing.
+#[test]
+fn test_points_without_an_expected_chi_are_refused_not_dropped() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("stamp.obj");
+    write(&mesh, &surfkit::shapes::stamp(&[]), &Default::default()).unwrap();
+    let cases: [&[&str]; 4] = [
+        &["--stages", "groups"],
+        &["--test-points", "5,3"],
+        &["--every", "10"],
+        &["--stages", "objects", "--jsonl"],
+    ];
+    for placing in cases {
+        let out = surfkit()
+            .arg("eat")
+            .arg(&mesh)
+            .args(placing)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{placing:?}: {err}");
+        assert!(
+            err.contains(&format!(
+                "{} places test points but no χ is given to check at them",
+                placing[0]
+            )),
+            "{placing:?}: {err}"
+        );
+    }
+    // With an expected χ the same test points are checked and shown.
+    let out = surfkit()
+        .arg("eat")
+        .arg(&mesh)
+        .args(["--every", "10", "--expect", "1"])
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&out.stdout).contains("test point 1"));
+
+    let repaired = dir.path().join("repaired.obj");
+    let out = surfkit()
+        .arg("repair")
+        .arg(&mesh)
+        .arg(&repaired)
+        .args(["--stages", "groups"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("--stages places test points but no χ is given to check at them"),
+        "{err}"
+    );
+    assert!(
+        !repaired.exists(),
+        "nothing is written when the command is refused"
+    );
+}
