@@ -101,10 +101,7 @@ pub(super) fn expected_chis(args: &EatArgs) -> Result<Vec<i64>> {
         return Ok(args.expect.clone());
     }
     if let Some(t) = &args.target {
-        return t
-            .split(';')
-            .map(|s| TargetTopology::parse(s).map(|t| t.euler_characteristic()))
-            .collect();
+        return target_chis(t);
     }
     if let Some(r) = &args.reference {
         let reference = read_with(
@@ -124,11 +121,28 @@ pub(super) fn expected_chis(args: &EatArgs) -> Result<Vec<i64>> {
         ("--every", args.every.is_some()),
     ];
     if let Some((option, _)) = placed.iter().find(|(_, given)| *given) {
-        return Err(Error::InvalidInput(format!(
-            "{option} places test points but no χ is given to check at them: add --expect, --target or --reference"
-        )));
+        return Err(unchecked_test_points(
+            option,
+            "--expect, --target or --reference",
+        ));
     }
     Ok(Vec::new())
+}
+
+/// The χ of each stage of a `--target` (`;` between stages).
+pub(super) fn target_chis(target: &str) -> Result<Vec<i64>> {
+    target
+        .split(';')
+        .map(|s| TargetTopology::parse(s).map(|t| t.euler_characteristic()))
+        .collect()
+}
+
+/// The refusal of test points placed by `option` with no χ to check at them (they would
+/// be dropped in silence and the command would pass); `remedies` the options that give one.
+pub(super) fn unchecked_test_points(option: &str, remedies: &str) -> Error {
+    Error::InvalidInput(format!(
+        "{option} places test points but no χ is given to check at them: add {remedies}"
+    ))
 }
 
 pub(super) fn fail_kinds(names: &[String]) -> Result<Vec<FlawKind>> {

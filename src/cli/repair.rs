@@ -9,14 +9,14 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use super::eat::TEST_FAILED;
+use super::eat::{target_chis, unchecked_test_points, TEST_FAILED};
 use crate::error::{Error, Result};
 use crate::mesh::io::{read_with, write, ReadOptions, WriteOptions};
 use crate::mesh::PolygonMesh;
 use crate::repair::{repair_located, Change, HoleFill, RepairOptions, Repaired};
 use crate::topology::{
     mark_flaws, scan, stage_ends, test_points, EatOptions, EatReport, Flaw, FlawKind,
-    LocatorOptions, StageSource, TargetTopology,
+    LocatorOptions, StageSource,
 };
 
 /// How holes are closed (see `repair::HoleFill`).
@@ -97,18 +97,12 @@ fn kinds(args: &RepairArgs) -> Result<Vec<FlawKind>> {
 }
 
 fn expected(args: &RepairArgs) -> Result<Vec<i64>> {
-    let expected: Vec<i64> = match &args.target {
-        Some(t) => t
-            .split(';')
-            .map(|s| TargetTopology::parse(s).map(|t| t.euler_characteristic()))
-            .collect::<Result<_>>()?,
+    let expected = match &args.target {
+        Some(t) => target_chis(t)?,
         None => args.expect.clone(),
     };
-    // Without a χ the stages' test points would be dropped in silence.
     if expected.is_empty() && args.stages.is_some() {
-        return Err(Error::InvalidInput(
-            "--stages places test points but no χ is given to check at them: add --expect or --target".into(),
-        ));
+        return Err(unchecked_test_points("--stages", "--expect or --target"));
     }
     Ok(expected)
 }

@@ -205,58 +205,45 @@ fn suggested_fixes_are_checked_by_applying_them() {
 
 /// Test points without a χ to check at them were dropped in silence: `eat --every 100`
 /// printed no test point and passed. Each way of placing them is refused, naming the
-/// option, on one file and on several; `repair --stages` alike, writing nothing.
+/// option (in text and in JSON lines); `repair --stages` alike, writing nothing.
 #[test]
 fn test_points_without_an_expected_chi_are_refused_not_dropped() {
     let dir = tempfile::tempdir().unwrap();
     let mesh = dir.path().join("stamp.obj");
     write(&mesh, &surfkit::shapes::stamp(&[]), &Default::default()).unwrap();
-    let cases: [&[&str]; 4] = [
-        &["--stages", "groups"],
-        &["--test-points", "5,3"],
-        &["--every", "10"],
-        &["--stages", "objects", "--jsonl"],
-    ];
-    for placing in cases {
+    let repaired = dir.path().join("repaired.obj");
+    let run = |args: &[&str]| {
         let out = surfkit()
-            .arg("eat")
+            .arg(args[0])
             .arg(&mesh)
-            .args(placing)
+            .args(&args[1..])
             .output()
             .unwrap();
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{placing:?}: {err}");
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        (out.status.code(), stderr, out.stdout)
+    };
+    let refusal = "places test points but no χ is given to check at them";
+    let cases: [&[&str]; 4] = [
+        &["eat", "--stages", "groups"],
+        &["eat", "--test-points", "5,3"],
+        &["eat", "--every", "10"],
+        &["eat", "--stages", "objects", "--jsonl"],
+    ];
+    for args in cases {
+        let (code, err, _) = run(args);
+        assert_eq!(code, Some(1), "{args:?}: {err}");
         assert!(
-            err.contains(&format!(
-                "{} places test points but no χ is given to check at them",
-                placing[0]
-            )),
-            "{placing:?}: {err}"
+            err.contains(&format!("{} {refusal}", args[1])),
+            "{args:?}: {err}"
         );
     }
     // With an expected χ the same test points are checked and shown.
-    let out = surfkit()
-        .arg("eat")
-        .arg(&mesh)
-        .args(["--every", "10", "--expect", "1"])
-        .output()
-        .unwrap();
-    assert!(String::from_utf8_lossy(&out.stdout).contains("test point 1"));
+    let (_, _, out) = run(&["eat", "--every", "10", "--expect", "1"]);
+    assert!(String::from_utf8_lossy(&out).contains("test point 1"));
 
-    let repaired = dir.path().join("repaired.obj");
-    let out = surfkit()
-        .arg("repair")
-        .arg(&mesh)
-        .arg(&repaired)
-        .args(["--stages", "groups"])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{err}");
-    assert!(
-        err.contains("--stages places test points but no χ is given to check at them"),
-        "{err}"
-    );
+    let (code, err, _) = run(&["repair", repaired.to_str().unwrap(), "--stages", "groups"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains(&format!("--stages {refusal}")), "{err}");
     assert!(
         !repaired.exists(),
         "nothing is written when the command is refused"
