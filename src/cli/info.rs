@@ -69,12 +69,17 @@ pub fn render(path: &std::path::Path, format: Format, s: &MeshSummary) -> String
         );
     }
     let yes = |b: bool| if b { "yes" } else { "no" };
+    let uvs = if s.has_uvs && s.textured_faces < s.faces {
+        format!("on {} of {} faces", s.textured_faces, s.faces)
+    } else {
+        yes(s.has_uvs).to_string()
+    };
     let _ = writeln!(
         out,
         "  objects {}  groups {}  uvs {}  quality {}  colours {}",
         s.objects,
         s.groups,
-        yes(s.has_uvs),
+        uvs,
         yes(s.has_quality),
         yes(s.has_colors)
     );
@@ -92,9 +97,9 @@ pub fn render(path: &std::path::Path, format: Format, s: &MeshSummary) -> String
         for r in s.refused.iter().take(20) {
             let _ = writeln!(
                 out,
-                "    face {} {:?}: {}",
+                "    face {} {}: {}",
                 r.face,
-                r.vertices,
+                crate::topology::show_ids(&r.vertices),
                 r.reason.describe()
             );
         }

@@ -106,21 +106,30 @@ pub fn run(args: &SubdivideArgs) -> crate::Result<()> {
             "input_vertices": mesh.vertex_count(), "input_faces": mesh.face_count(),
             "vertices": refined.vertex_count(), "faces": refined.face_count(),
             "uvs": refined.uvs.is_some(),
+            "textured_faces": refined.uvs.as_ref().map_or(0, |uv| uv.textured_faces(&refined.face_offsets)),
         });
         super::print_json(&report)?;
     } else {
         println!(
-            "{} → {}: Catmull–Clark ×{} (OpenSubdiv), {} faces → {} quads, {} vertices{}",
+            "{} → {}: Catmull–Clark ×{} (OpenSubdiv), {} faces → {} {}, {} vertices{}",
             args.input.display(),
             args.output.display(),
             args.levels,
             mesh.face_count(),
             refined.face_count(),
+            // Zero levels leave the control faces as they are (triangles stay triangles).
+            if args.levels == 0 { "faces" } else { "quads" },
             refined.vertex_count(),
-            if refined.uvs.is_some() {
-                ", UVs refined"
-            } else {
-                ""
+            match &refined.uvs {
+                Some(uv) if uv.untextured.is_some() => format!(
+                    ", UVs refined (on the {} faces of {} control faces that have them)",
+                    uv.textured_faces(&refined.face_offsets),
+                    mesh.uvs
+                        .as_ref()
+                        .map_or(0, |c| c.textured_faces(&mesh.face_offsets))
+                ),
+                Some(_) => ", UVs refined".into(),
+                None => String::new(),
             }
         );
     }

@@ -24,6 +24,9 @@ pub struct MeshSummary {
     pub objects: usize,
     pub groups: usize,
     pub has_uvs: bool,
+    /// Faces with texture coordinates (all of them, or fewer in an OBJ that gives some
+    /// faces none; 0 without UVs).
+    pub textured_faces: usize,
     pub has_quality: bool,
     pub has_colors: bool,
     /// The OpenMesh half-edge structure.
@@ -85,6 +88,10 @@ impl MeshSummary {
             objects: mesh.objects.as_ref().map_or(0, |l| l.names.len()),
             groups: mesh.groups.as_ref().map_or(0, |l| l.names.len()),
             has_uvs: mesh.uvs.is_some(),
+            textured_faces: mesh
+                .uvs
+                .as_ref()
+                .map_or(0, |uv| uv.textured_faces(&mesh.face_offsets)),
             has_quality: mesh.quality.is_some(),
             has_colors: mesh.colors.is_some(),
             halfedge,

@@ -44,6 +44,32 @@ impl FaceLabels {
 pub struct CornerUvs {
     pub coords: Vec<[f64; 2]>,
     pub corner_indices: Vec<u32>,
+    /// The coordinate (0, 0) that the corners of faces without texture coordinates point
+    /// to, when some faces have them and some not (an OBJ that joins a textured and an
+    /// untextured part): those faces are written back without, and fitting refuses them,
+    /// instead of every face's UVs being dropped or the stand-in being taken as a real one.
+    pub untextured: Option<u32>,
+}
+
+impl CornerUvs {
+    /// The value that stands for "no texture coordinate" (what a face-varying channel,
+    /// which holds a value at every corner, keeps there).
+    pub const UNTEXTURED_VALUE: [f64; 2] = [0.0, 0.0];
+
+    /// Whether the corner at `corner` (an index into the face corners) has a coordinate of
+    /// its own; every corner of a face has one or none.
+    pub fn is_textured(&self, corner: usize) -> bool {
+        self.untextured != Some(self.corner_indices[corner])
+    }
+
+    /// How many of the faces (given by their corner offsets) have texture coordinates (a
+    /// face without corners, kept for a flaw report, counts as textured: it lacks nothing).
+    pub fn textured_faces(&self, face_offsets: &[u32]) -> usize {
+        face_offsets
+            .windows(2)
+            .filter(|w| w[0] == w[1] || self.is_textured(w[0] as usize))
+            .count()
+    }
 }
 
 /// A polygon soup that never refuses input: any arity, any topology, any vertex order.

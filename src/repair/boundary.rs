@@ -10,7 +10,7 @@ use super::change::{Action, Change};
 use super::editable::Editable;
 use super::spline_fill::{spline_fill, Corner, VertexFacets};
 use super::HoleFill;
-use crate::topology::{Flaw, FlawKind};
+use crate::topology::{show_ids, Flaw, FlawKind};
 
 /// Directed edges of the live facets → the facet ids running them.
 fn directed_edges(mesh: &Editable) -> FxHashMap<(u32, u32), Vec<u32>> {
@@ -58,7 +58,10 @@ pub fn split_cracks(
             Action::SplitEdge,
             vec![f],
             [a, b].iter().chain(ts).copied().collect(),
-            format!("edge {{{a}, {b}}} of facet {f} split at vertices {ts:?}"),
+            format!(
+                "edge {{{a}, {b}}} of facet {f} split at vertices {}",
+                show_ids(ts)
+            ),
         ));
     }
 }

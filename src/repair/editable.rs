@@ -187,6 +187,7 @@ impl Editable {
                 mesh.uvs = Some(crate::mesh::CornerUvs {
                     coords: uvs.coords.clone(),
                     corner_indices,
+                    untextured: uvs.untextured,
                 });
             } else {
                 uvs_dropped = true;

@@ -5,7 +5,7 @@ use foldhash::{HashMap as FxHashMap, HashMapExt};
 
 use super::change::{Action, Change};
 use super::editable::Editable;
-use crate::topology::{Flaw, FlawKind};
+use crate::topology::{show_ids, Flaw, FlawKind};
 
 /// Welds each `coincident_vertices` flaw's vertex into the earlier one it lies on.
 pub fn weld(mesh: &mut Editable, flaws: &[Flaw], changes: &mut Vec<Change>) {
@@ -80,7 +80,11 @@ pub fn clean_degenerate(mesh: &mut Editable, changes: &mut Vec<Change>) {
                 Action::RemoveRepeatedCorner,
                 vec![f as u32],
                 kept.clone(),
-                format!("facet {f}: corners {before:?} become {kept:?}"),
+                format!(
+                    "facet {f}: corners {} become {}",
+                    show_ids(&before),
+                    show_ids(&kept)
+                ),
             ));
             mesh.faces[f] = Some(kept);
         } else {
@@ -89,7 +93,10 @@ pub fn clean_degenerate(mesh: &mut Editable, changes: &mut Vec<Change>) {
                 Action::DeleteFacet,
                 vec![f as u32],
                 before.clone(),
-                format!("facet {f} with corners {before:?} has no area left: deleted"),
+                format!(
+                    "facet {f} with corners {} has no area left: deleted",
+                    show_ids(&before)
+                ),
             ));
             mesh.faces[f] = None;
         }

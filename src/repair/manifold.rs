@@ -10,7 +10,7 @@ use foldhash::{HashMap as FxHashMap, HashMapExt, HashSet as FxHashSet};
 use super::change::{Action, Change};
 use super::editable::Editable;
 use crate::topology::disjoint_sets::DisjointSets;
-use crate::topology::FlawKind;
+use crate::topology::{show_ids, FlawKind};
 
 /// A fan at a vertex: its root in the disjoint sets, and its corners.
 type Fan = (u32, Vec<u32>);
@@ -124,7 +124,8 @@ pub fn split_fans(mesh: &mut Editable, edges: bool, vertices: bool, changes: &mu
                 facets.clone(),
                 vec![v, copy],
                 format!(
-                    "facets {facets:?} get vertex {copy}, a copy of vertex {v}, as their own fan"
+                    "facets {} get vertex {copy}, a copy of vertex {v}, as their own fan",
+                    show_ids(&facets)
                 ),
             ));
         }

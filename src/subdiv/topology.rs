@@ -1,11 +1,11 @@
 //! The control mesh as OpenSubdiv takes it: a `PolygonMesh` and `SubdivOptions` checked and
 //! converted once into the flat `i32`/`f32` arrays of the shim's topology descriptor.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 use crate::error::{Error, Result};
 use crate::ffi::opensubdiv as ffi;
-use crate::mesh::PolygonMesh;
+use crate::mesh::{CornerUvs, PolygonMesh};
 use crate::subdiv::SubdivOptions;
 
 /// Owned descriptor arrays; [`ControlMesh::topology`] lends them to the shim.
@@ -34,6 +34,32 @@ fn check_sharpness(s: f32, what: &str) -> Result<()> {
             "{what}: sharpness {s} must be finite and ≥ 0"
         )))
     }
+}
+
+/// The face-varying channel's value count and corner indices. Corners of faces without
+/// texture coordinates get one value per vertex after the mesh's (the stand-in (0, 0)
+/// each; [`ControlMesh::num_uvs`] counts them): OpenSubdiv ties each face-varying value
+/// to one vertex, so the one shared stand-in would not be a valid channel.
+fn uv_channel(mesh: &PolygonMesh, uv: &CornerUvs) -> Result<(usize, Vec<i32>)> {
+    let mut count = uv.coords.len();
+    let mut of_vertex: HashMap<u32, i32> = HashMap::new();
+    let mut indices = Vec::with_capacity(uv.corner_indices.len());
+    for (k, (&t, &v)) in uv.corner_indices.iter().zip(&mesh.face_indices).enumerate() {
+        indices.push(if uv.is_textured(k) {
+            t as i32
+        } else {
+            *of_vertex.entry(v).or_insert_with(|| {
+                count += 1;
+                (count - 1) as i32
+            })
+        });
+    }
+    if count > i32::MAX as usize {
+        return Err(invalid(
+            "the mesh has too many texture coordinates for OpenSubdiv's 32-bit indices".into(),
+        ));
+    }
+    Ok((count, indices))
 }
 
 impl ControlMesh {
@@ -105,10 +131,7 @@ impl ControlMesh {
             corner_sharpness.push(c.sharpness);
         }
         let (num_uvs, uv_indices) = match (&mesh.uvs, with_uvs) {
-            (Some(uv), true) if !uv.coords.is_empty() => (
-                uv.coords.len(),
-                uv.corner_indices.iter().map(|&i| i as i32).collect(),
-            ),
+            (Some(uv), true) if !uv.coords.is_empty() => uv_channel(mesh, uv)?,
             _ => (0, Vec::new()),
         };
         Ok(ControlMesh {

@@ -90,21 +90,33 @@ pub fn refine_uniform(
             corners * 4u128.pow(levels)
         )));
     }
-    let uv_coords: &[[f64; 2]] = match &mesh.uvs {
-        Some(uv) if control.num_uvs > 0 => &uv.coords,
-        _ => &[],
+    // The mesh's coordinates, then the stand-ins of faces without (see `ControlMesh`).
+    let uv_coords: Vec<[f64; 2]> = match &mesh.uvs {
+        Some(uv) if control.num_uvs > 0 => {
+            let stand_ins = control.num_uvs - uv.coords.len();
+            let stand_in = std::iter::repeat_n(CornerUvs::UNTEXTURED_VALUE, stand_ins);
+            uv.coords.iter().copied().chain(stand_in).collect()
+        }
+        _ => Vec::new(),
     };
     let level = ffi::refine_uniform(
         &control.topology(),
         levels as i32,
         &mesh.positions,
-        uv_coords,
+        &uv_coords,
     )?;
     let nf = level.face_vertices.len() / 4;
     let uvs = (control.num_uvs > 0).then_some(CornerUvs {
         coords: level.fvar_values,
         corner_indices: level.fvar_indices,
+        untextured: None,
     });
+    let uvs = match (uvs, &mesh.uvs) {
+        (Some(refined), Some(control_uvs)) if control_uvs.untextured.is_some() => {
+            Some(untextured_children(control_uvs, levels, refined))
+        }
+        (uvs, _) => uvs,
+    };
     Ok(PolygonMesh {
         positions: level.positions,
         face_offsets: (0..=nf as u32).map(|f| 4 * f).collect(),
@@ -112,4 +124,47 @@ pub fn refine_uniform(
         uvs,
         ..Default::default()
     })
+}
+
+/// The refined UVs with the children of each control face that had no texture coordinates
+/// pointing to one stand-in again (the last coordinate), and the values OpenSubdiv refined
+/// from the stand-ins dropped, the others kept in order.
+///
+/// OpenSubdiv numbers child faces consecutively per parent face, one per parent corner, so
+/// refined face `f` descends from control corner `f / 4^(levels − 1)` (`levels ≥ 1`).
+fn untextured_children(control: &CornerUvs, levels: u32, refined: CornerUvs) -> CornerUvs {
+    let shift = 2 * (levels - 1);
+    let textured = |corner: usize| control.is_textured((corner / 4) >> shift);
+    let mut new_index = vec![u32::MAX; refined.coords.len()];
+    for (k, &t) in refined.corner_indices.iter().enumerate() {
+        if textured(k) {
+            new_index[t as usize] = 0;
+        }
+    }
+    let mut coords = Vec::with_capacity(refined.coords.len());
+    for (t, new) in new_index.iter_mut().enumerate() {
+        if *new == 0 {
+            *new = coords.len() as u32;
+            coords.push(refined.coords[t]);
+        }
+    }
+    let stand_in = coords.len() as u32;
+    coords.push(CornerUvs::UNTEXTURED_VALUE);
+    let corner_indices = refined
+        .corner_indices
+        .iter()
+        .enumerate()
+        .map(|(k, &t)| {
+            if textured(k) {
+                new_index[t as usize]
+            } else {
+                stand_in
+            }
+        })
+        .collect();
+    CornerUvs {
+        coords,
+        corner_indices,
+        untextured: Some(stand_in),
+    }
 }

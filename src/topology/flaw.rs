@@ -130,6 +130,20 @@ pub fn show_measure(x: f64) -> String {
     }
 }
 
+/// How many ids a list in a flaw's or change's text shows before it is cut short.
+pub const IDS_SHOWN: usize = 8;
+
+/// A list of vertex or facet ids in text: all of a short list, `[a, b, …, h, … (n in all)]`
+/// for a longer one, so that one flaw or change stays one readable line (a degenerate facet
+/// can have thousands of corners); the JSON report keeps every id.
+pub fn show_ids(ids: &[u32]) -> String {
+    if ids.len() <= IDS_SHOWN {
+        return format!("{ids:?}");
+    }
+    let head: Vec<String> = ids[..IDS_SHOWN].iter().map(u32::to_string).collect();
+    format!("[{}, … ({} in all)]", head.join(", "), ids.len())
+}
+
 /// A loop measure in JSON: a number, or the string `"Infinity"` (serde_json would write
 /// `null`, which reads as "not measured"). JavaScript's `Number`, Python's `float` and
 /// Rust's `f64::from_str` all read that string back as +∞.
@@ -138,5 +152,24 @@ fn measure_json<S: serde::Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> 
         s.serialize_f64(*x)
     } else {
         s.serialize_str(&show_measure(*x))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn id_lists_are_cut_after_eight_ids_and_say_how_many() {
+        assert_eq!(show_ids(&[]), "[]");
+        assert_eq!(
+            show_ids(&[3, 1, 4, 1, 5, 9, 2, 6]),
+            "[3, 1, 4, 1, 5, 9, 2, 6]"
+        );
+        let long: Vec<u32> = (0..10_000).collect();
+        assert_eq!(
+            show_ids(&long),
+            "[0, 1, 2, 3, 4, 5, 6, 7, … (10000 in all)]"
+        );
     }
 }

@@ -7,7 +7,7 @@ use std::hash::BuildHasher;
 use foldhash::{HashMap as FxHashMap, HashMapExt};
 
 use super::cracks::stitch_cracks;
-use super::flaw::{show_measure, Flaw, FlawKind, LoopShape};
+use super::flaw::{show_ids, show_measure, Flaw, FlawKind, LoopShape};
 use super::registry::EatRegistry;
 use super::structure::Structure;
 
@@ -425,7 +425,8 @@ pub fn locate_with(
                 structure.facet_component[structure.first_side(e as usize).facet as usize]
             }),
             description: format!(
-                "boundary vertices {ts:?} lie on edge {{{a}, {b}}} ({}) but facet {faces:?} does not use them: a crack (T-junction)",
+                "boundary vertices {} lie on edge {{{a}, {b}}} ({}) but facet {faces:?} does not use them: a crack (T-junction)",
+                show_ids(ts),
                 if j.offset == 0.0 {
                     "on its line".to_string()
                 } else {
@@ -434,7 +435,8 @@ pub fn locate_with(
             ),
             fix_verified: None,
             suggested_fix: format!(
-                "split edge {{{a}, {b}}} at vertices {ts:?} in facet {faces:?} (insert them between its corners {a} and {b})"
+                "split edge {{{a}, {b}}} at vertices {} in facet {faces:?} (insert them between its corners {a} and {b})",
+                show_ids(ts)
             ),
             vertices,
             faces,
@@ -496,8 +498,8 @@ pub fn locate_with(
                 description: format!("edge {{{}, {}}} has {} facet sides (ec = {})", item.a, item.b, item.ec, item.ec),
                 fix_verified: None,
                 suggested_fix: format!(
-                    "keep two of the facets {faces:?} on this edge; give the others their own copies of vertices {} and {}, or delete duplicates",
-                    item.a, item.b
+                    "keep two of the facets {} on this edge; give the others their own copies of vertices {} and {}, or delete duplicates",
+                    show_ids(&faces), item.a, item.b
                 ),
                 faces,
             });
@@ -575,8 +577,9 @@ pub fn locate_with(
                 shape: None,
                 component: Some(structure.facet_component[f]),
                 description: format!(
-                    "facet {} has corners {face:?}: fewer than 3 or a repeated vertex",
-                    facet_id(f as u32)
+                    "facet {} has corners {}: fewer than 3 or a repeated vertex",
+                    facet_id(f as u32),
+                    show_ids(face)
                 ),
                 fix_verified: None,
                 suggested_fix: format!(

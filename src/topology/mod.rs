@@ -23,7 +23,7 @@ mod structure;
 mod target;
 
 pub use cracks::{stitch_cracks, Stitched, TJunction};
-pub use flaw::{show_measure, Flaw, FlawKind, LoopShape};
+pub use flaw::{show_ids, show_measure, Flaw, FlawKind, LoopShape};
 pub use locator::{boundary_walks, locate, LocatorOptions, DEFAULT_CRACK_TOLERANCE};
 pub use mark::{flaw_color, mark_flaws, SOUND};
 pub use progressive::{Checkpoint, FacetDetail, ModelCompanion};

@@ -16,3 +16,4 @@ mod html;
 mod info_convert;
 mod repair;
 mod spline_memory;
+mod text_summaries;

@@ -350,6 +350,7 @@ fn smooth_uvs_without_seams_refine_like_positions() {
     with_uv.uvs = Some(CornerUvs {
         coords: mesh.positions.iter().map(|p| [p[0], p[1]]).collect(),
         corner_indices: mesh.face_indices.clone(),
+        untextured: None,
     });
     let scale = crate::cgal::diagonal(&mesh);
     for rule in [
@@ -450,4 +451,60 @@ fn degenerate_faces_refine_without_failing_or_are_refused_by_name() {
         err.contains("face 0") && err.contains("vertex index 1"),
         "{err}"
     );
+}
+
+#[test]
+fn faces_without_uvs_leave_the_others_refined_as_if_all_had_them() {
+    // The torus's UVs kept on every other face, the rest given none: the textured faces'
+    // children carry exactly the UVs of the fully textured refinement (linear face-varying
+    // interpolation depends on the face's own corners only), the others the stand-in.
+    let full = read(&crate::cgal::fixture("catmark_torus.obj")).unwrap();
+    let uvs = full.uvs.clone().expect("catmark_torus.obj has vt");
+    let mut partial = full.clone();
+    let stand_in = uvs.coords.len() as u32;
+    let mut corner_indices = uvs.corner_indices.clone();
+    for (f, w) in full.face_offsets.windows(2).enumerate() {
+        if f % 2 == 1 {
+            corner_indices[w[0] as usize..w[1] as usize].fill(stand_in);
+        }
+    }
+    let mut coords = uvs.coords.clone();
+    coords.push(CornerUvs::UNTEXTURED_VALUE);
+    partial.uvs = Some(CornerUvs {
+        coords,
+        corner_indices,
+        untextured: Some(stand_in),
+    });
+    for levels in [1, 2] {
+        let a = refine_uniform(&full, levels, &SubdivOptions::default()).unwrap();
+        let b = refine_uniform(&partial, levels, &SubdivOptions::default()).unwrap();
+        assert_eq!(a.positions, b.positions);
+        let (ua, ub) = (a.uvs.as_ref().unwrap(), b.uvs.as_ref().unwrap());
+        let mut textured = 0;
+        let mut first_child = 0;
+        for (f, w) in full.face_offsets.windows(2).enumerate() {
+            let children = (w[1] - w[0]) as usize * 4usize.pow(levels - 1);
+            for child in first_child..first_child + children {
+                for k in 4 * child..4 * child + 4 {
+                    if f % 2 == 0 {
+                        let (pa, pb) = (ua.corner_indices[k], ub.corner_indices[k]);
+                        assert_eq!(ua.coords[pa as usize], ub.coords[pb as usize], "face {f}");
+                        assert!(ub.is_textured(k));
+                    } else {
+                        assert_eq!(Some(ub.corner_indices[k]), ub.untextured, "face {f}");
+                    }
+                }
+                textured += usize::from(f % 2 == 0);
+            }
+            first_child += children;
+        }
+        assert_eq!(first_child, b.face_count());
+        assert_eq!(ub.textured_faces(&b.face_offsets), textured);
+        // No coordinate is left that no corner uses (the stand-ins' refined values dropped).
+        let mut used = vec![false; ub.coords.len()];
+        ub.corner_indices
+            .iter()
+            .for_each(|&t| used[t as usize] = true);
+        assert!(used.iter().all(|&u| u), "level {levels}");
+    }
 }

@@ -33,6 +33,9 @@ struct ObjBuilder {
     uv_coords: Vec<[f64; 2]>,
     uv_corners: Vec<u32>,
     faces_with_uv: usize,
+    /// `vn` records read so far: normals are not kept, but a face's normal indices must
+    /// name one (as its texture indices must name a `vt`).
+    normal_count: usize,
     objects: FaceLabels,
     groups: FaceLabels,
     label_ids: [std::collections::HashMap<String, u32>; 2],
@@ -132,6 +135,7 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
                     }
                 }
             }
+            b"vn" => b.normal_count += 1,
             b"f" => read_face(&mut b, toks, number).map_err(|m| err(number, why(data, m)))?,
             b"t" => read_tag(&mut b, toks, number).map_err(|m| err(number, why(data, m)))?,
             b"o" | b"g" => {
@@ -273,6 +277,7 @@ fn read_face<'a>(
 ) -> std::result::Result<(), String> {
     let vertex_count = b.mesh.positions.len() as i64;
     let uv_count = b.uv_coords.len() as i64;
+    let normal_count = b.normal_count as i64;
     let first_corner = b.raw_indices.len();
     let mut with_uv = 0usize;
     for t in toks {
@@ -301,6 +306,15 @@ fn read_face<'a>(
             }
             b.uv_corners.push(r as u32);
             with_uv += 1;
+        }
+        if let Some(vn) = parts.next().filter(|s| !s.is_empty()) {
+            let ni = parse_i64(vn).ok_or_else(|| format!("{:?} is not a normal index", show(t)))?;
+            let r = if ni < 0 { normal_count + ni } else { ni - 1 };
+            if r < 0 || r >= normal_count {
+                return Err(format!(
+                    "normal index {ni} is out of range: {normal_count} normals (vn) read so far"
+                ));
+            }
         }
     }
     let arity = b.raw_indices.len() - first_corner;
@@ -471,6 +485,22 @@ fn finish(mut b: ObjBuilder, path: &Path, options: &ReadOptions) -> Result<Polyg
         b.mesh.uvs = Some(CornerUvs {
             coords: b.uv_coords,
             corner_indices: b.uv_corners,
+            untextured: None,
+        });
+    } else if b.faces_with_uv > 0 {
+        // Some faces without texture indices: their corners point to one stand-in
+        // coordinate, so the other faces keep theirs.
+        let stand_in = b.uv_coords.len() as u32;
+        b.uv_coords.push(CornerUvs::UNTEXTURED_VALUE);
+        for k in &mut b.uv_corners {
+            if *k == u32::MAX {
+                *k = stand_in;
+            }
+        }
+        b.mesh.uvs = Some(CornerUvs {
+            coords: b.uv_coords,
+            corner_indices: b.uv_corners,
+            untextured: Some(stand_in),
         });
     }
     let labelled = |l: &FaceLabels| l.of_face.iter().any(|&i| i != NO_LABEL);
@@ -484,7 +514,8 @@ fn finish(mut b: ObjBuilder, path: &Path, options: &ReadOptions) -> Result<Polyg
 }
 
 /// Writes OBJ text: positions in shortest round-trip form, faces 1-based, `o`/`g` records
-/// where a face's label changes, `vt` and `f v/vt` when the mesh has UVs.
+/// where a face's label changes, `vt` and `f v/vt` when the mesh has UVs (`f v` for a face
+/// without, whose stand-in coordinate is not written when it is the last one).
 pub fn write(out: &mut dyn Write, mesh: &PolygonMesh) -> std::io::Result<()> {
     writeln!(out, "# written by surfkit {}", env!("CARGO_PKG_VERSION"))?;
     writeln!(
@@ -508,7 +539,11 @@ pub fn write(out: &mut dyn Write, mesh: &PolygonMesh) -> std::io::Result<()> {
         out.write_all(b"\n")?;
     }
     if let Some(uv) = &mesh.uvs {
-        for t in &uv.coords {
+        let written = match uv.untextured {
+            Some(s) if s as usize + 1 == uv.coords.len() => s as usize,
+            _ => uv.coords.len(),
+        };
+        for t in &uv.coords[..written] {
             out.write_all(b"vt ")?;
             write_f64(out, t[0])?;
             out.write_all(b" ")?;
@@ -534,10 +569,14 @@ pub fn write(out: &mut dyn Write, mesh: &PolygonMesh) -> std::io::Result<()> {
             last_g = g;
         }
         out.write_all(b"f")?;
+        let uvs = mesh
+            .uvs
+            .as_ref()
+            .filter(|uv| w[0] == w[1] || uv.is_textured(w[0] as usize));
         for k in w[0] as usize..w[1] as usize {
             out.write_all(b" ")?;
             out.write_all(itoa.format(mesh.face_indices[k] + 1).as_bytes())?;
-            if let Some(uv) = &mesh.uvs {
+            if let Some(uv) = uvs {
                 out.write_all(b"/")?;
                 out.write_all(itoa.format(uv.corner_indices[k] + 1).as_bytes())?;
             }
@@ -636,5 +675,61 @@ mod tests {
             e.to_string(),
             "t.obj: line 4: not valid UTF-8 text: byte 0xe9 at column 7"
         );
+    }
+
+    #[test]
+    fn normal_indices_must_name_a_normal_read_before() {
+        let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\n";
+        // Absolute and relative indices of the one normal, with and without texture indices.
+        for face in ["f 1//1 2//1 3//1", "f 1//-1 2//-1 3//-1"] {
+            let mesh = read(format!("{tri}{face}\n").as_bytes()).unwrap();
+            assert_eq!(mesh.face_indices, vec![0, 1, 2], "{face}");
+        }
+        for (face, message) in [
+            (
+                "f 1//2 2//2 3//2",
+                "t.obj: line 5: normal index 2 is out of range: 1 normals (vn) read so far",
+            ),
+            (
+                "f 1//-2 2//1 3//1",
+                "t.obj: line 5: normal index -2 is out of range: 1 normals (vn) read so far",
+            ),
+            (
+                "f 1//0 2//1 3//1",
+                "t.obj: line 5: normal index 0 is out of range: 1 normals (vn) read so far",
+            ),
+            (
+                "f 1//n 2//1 3//1",
+                "t.obj: line 5: \"1//n\" is not a normal index",
+            ),
+        ] {
+            let e = read(format!("{tri}{face}\n").as_bytes()).unwrap_err();
+            assert_eq!(e.to_string(), message, "{face}");
+        }
+        // A normal defined after the face that names it is not one read before.
+        let e = read(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\nvn 0 0 1\n").unwrap_err();
+        assert!(e.to_string().contains("line 4: normal index 1"), "{e}");
+    }
+
+    #[test]
+    fn faces_without_texture_indices_keep_the_others_uvs_and_write_back_without() {
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\n\
+                    vt 0.25 0.5\nvt 0.75 0.5\nvt 0.5 1\n\
+                    f 1/1 2/2 3/3\nf 1 3 4\nf 2 5 3\n";
+        let mesh = read(text.as_bytes()).unwrap();
+        let uv = mesh.uvs.as_ref().expect("the textured face keeps its UVs");
+        assert_eq!(uv.untextured, Some(3));
+        assert_eq!(uv.coords[3], CornerUvs::UNTEXTURED_VALUE);
+        assert_eq!(uv.corner_indices, vec![0, 1, 2, 3, 3, 3, 3, 3, 3]);
+        assert_eq!(uv.textured_faces(&mesh.face_offsets), 1);
+        let mut out = Vec::new();
+        write(&mut out, &mesh).unwrap();
+        let written = String::from_utf8(out).unwrap();
+        assert_eq!(written.matches("\nvt ").count(), 3, "{written}");
+        assert!(
+            written.contains("\nf 1/1 2/2 3/3\nf 1 3 4\nf 2 5 3\n"),
+            "{written}"
+        );
+        assert_eq!(read(written.as_bytes()).unwrap(), mesh);
     }
 }

@@ -697,6 +697,7 @@ pub fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polygon
         mesh.uvs = Some(CornerUvs {
             coords: vertices.uv,
             corner_indices: mesh.face_indices.clone(),
+            untextured: None,
         });
     }
     for (kind, role, mut labels, slot) in [
@@ -896,7 +897,9 @@ pub fn read_vertex_property(
 }
 
 /// Writes PLY: double positions, `double quality`, `uchar` RGBA, corner lists, MeshLab's
-/// wedge `texcoord`, and surfkit's `object_id`/`group_id` with names in comments.
+/// wedge `texcoord`, and surfkit's `object_id`/`group_id` with names in comments. A face
+/// without texture coordinates is written with its stand-in (0, 0) at each corner: a
+/// `texcoord` list holds two numbers per corner (surfkit's reader refuses other lengths).
 pub fn write(
     out: &mut dyn Write,
     mesh: &PolygonMesh,
