@@ -122,11 +122,12 @@ pub fn run(args: &SubdivideArgs) -> crate::Result<()> {
             refined.vertex_count(),
             match &refined.uvs {
                 Some(uv) if uv.untextured.is_some() => format!(
-                    ", UVs refined (on the {} faces of {} control faces that have them)",
+                    ", UVs refined on {} faces (from the {} of {} control faces that have them)",
                     uv.textured_faces(&refined.face_offsets),
                     mesh.uvs
                         .as_ref()
-                        .map_or(0, |c| c.textured_faces(&mesh.face_offsets))
+                        .map_or(0, |c| c.textured_faces(&mesh.face_offsets)),
+                    mesh.face_count()
                 ),
                 Some(_) => ", UVs refined".into(),
                 None => String::new(),

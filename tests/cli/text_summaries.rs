@@ -168,6 +168,19 @@ fn faces_without_texture_coordinates_leave_the_others_theirs() {
         (json["faces"].as_u64(), json["textured_faces"].as_u64()),
         (Some(7), Some(4))
     );
+    let out = surfkit()
+        .args(["subdivide", "-l", "1"])
+        .arg(&mesh)
+        .arg("-o")
+        .arg(&refined)
+        .output()
+        .unwrap();
+    assert!(
+        stdout(&out)
+            .contains("UVs refined on 4 faces (from the 1 of 2 control faces that have them)"),
+        "{}",
+        stdout(&out)
+    );
     let written = std::fs::read_to_string(&refined).unwrap();
     let faces: Vec<&str> = written.lines().filter(|l| l.starts_with("f ")).collect();
     assert_eq!(
