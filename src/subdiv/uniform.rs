@@ -135,19 +135,19 @@ pub fn refine_uniform(
 fn untextured_children(control: &CornerUvs, levels: u32, refined: CornerUvs) -> CornerUvs {
     let shift = 2 * (levels - 1);
     let textured = |corner: usize| control.is_textured((corner / 4) >> shift);
-    let mut new_index = vec![u32::MAX; refined.coords.len()];
+    let mut used = vec![false; refined.coords.len()];
     for (k, &t) in refined.corner_indices.iter().enumerate() {
-        if textured(k) {
-            new_index[t as usize] = 0;
-        }
+        used[t as usize] |= textured(k);
     }
     let mut coords = Vec::with_capacity(refined.coords.len());
-    for (t, new) in new_index.iter_mut().enumerate() {
-        if *new == 0 {
-            *new = coords.len() as u32;
-            coords.push(refined.coords[t]);
-        }
-    }
+    let new_index: Vec<u32> = (used.iter().zip(&refined.coords))
+        .map(|(&used, &uv)| {
+            if used {
+                coords.push(uv);
+            }
+            coords.len() as u32 - u32::from(used)
+        })
+        .collect();
     let stand_in = coords.len() as u32;
     coords.push(CornerUvs::UNTEXTURED_VALUE);
     let corner_indices = refined

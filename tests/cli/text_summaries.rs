@@ -151,35 +151,31 @@ fn faces_without_texture_coordinates_leave_the_others_theirs() {
 
     // Subdivided: the quad's 4 children textured, the triangle's 3 not.
     let refined = dir.join("refined.obj");
-    let out = surfkit()
-        .args(["subdivide", "-l", "1", "--json"])
-        .arg(&mesh)
-        .arg("-o")
-        .arg(&refined)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let subdivide = |extra: &[&str]| {
+        let out = surfkit()
+            .args(["subdivide", "-l", "1"])
+            .args(extra)
+            .arg(&mesh)
+            .arg("-o")
+            .arg(&refined)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        stdout(&out)
+    };
+    let json: serde_json::Value = serde_json::from_str(&subdivide(&["--json"])).unwrap();
     assert_eq!(
         (json["faces"].as_u64(), json["textured_faces"].as_u64()),
         (Some(7), Some(4))
     );
-    let out = surfkit()
-        .args(["subdivide", "-l", "1"])
-        .arg(&mesh)
-        .arg("-o")
-        .arg(&refined)
-        .output()
-        .unwrap();
+    let text = subdivide(&[]);
     assert!(
-        stdout(&out)
-            .contains("UVs refined on 4 faces (from the 1 of 2 control faces that have them)"),
-        "{}",
-        stdout(&out)
+        text.contains("UVs refined on 4 faces (from the 1 of 2 control faces that have them)"),
+        "{text}"
     );
     let written = std::fs::read_to_string(&refined).unwrap();
     let faces: Vec<&str> = written.lines().filter(|l| l.starts_with("f ")).collect();
