@@ -38,7 +38,27 @@ fn is_header(line_index: usize, fields: &[&str]) -> bool {
 /// Errors: `Parse` naming the line for a line that does not have five finite numbers
 /// (except a first line without numbers, taken as a header); `InvalidInput` for no data.
 pub fn parse_csv(path: &Path, text: &str) -> Result<ScatteredData> {
-    let mut d = ScatteredData::default();
+    let rows = numeric_rows::<5>(path, text, "five finite numbers u,v,x,y,z")?;
+    if rows.is_empty() {
+        return Err(Error::InvalidInput(format!(
+            "{}: no data lines",
+            path.display()
+        )));
+    }
+    Ok(ScatteredData {
+        params: rows.iter().map(|(_, v)| [v[0], v[1]]).collect(),
+        points: rows.iter().map(|(_, v)| [v[2], v[3], v[4]]).collect(),
+    })
+}
+
+/// The data lines of CSV text as `N` finite numbers each, with their 1-based line numbers
+/// (comments, blank lines and a header skipped); `expected` says what a line must hold.
+fn numeric_rows<const N: usize>(
+    path: &Path,
+    text: &str,
+    expected: &str,
+) -> Result<Vec<(usize, [f64; N])>> {
+    let mut rows = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let line = line.split('#').next().unwrap_or("").trim();
         if line.is_empty() {
@@ -48,27 +68,20 @@ pub fn parse_csv(path: &Path, text: &str) -> Result<ScatteredData> {
         let nums: std::result::Result<Vec<f64>, _> =
             fields.iter().map(|f| f.parse::<f64>()).collect();
         match nums {
-            Ok(v) if v.len() == 5 && v.iter().all(|x| x.is_finite()) => {
-                d.params.push([v[0], v[1]]);
-                d.points.push([v[2], v[3], v[4]]);
+            Ok(v) if v.len() == N && v.iter().all(|x| x.is_finite()) => {
+                rows.push((i + 1, std::array::from_fn(|k| v[k])))
             }
             Err(_) if is_header(i, &fields) => continue,
             _ => {
                 return Err(Error::parse(
                     path,
                     Location::Line(i + 1),
-                    format!("expected five finite numbers u,v,x,y,z, got {line:?}"),
+                    format!("expected {expected}, got {line:?}"),
                 ))
             }
         }
     }
-    if d.params.is_empty() {
-        return Err(Error::InvalidInput(format!(
-            "{}: no data lines",
-            path.display()
-        )));
-    }
-    Ok(d)
+    Ok(rows)
 }
 
 /// Reads a CSV file (the file is never modified).
@@ -109,39 +122,20 @@ fn read_text(path: &Path) -> Result<String> {
 /// Errors: `Parse` naming the line for a line that is not two finite numbers (except a
 /// first line without numbers); `InvalidInput` for no points.
 pub fn parse_uv_points(path: &Path, text: &str) -> Result<Vec<super::shape::ShapePoint>> {
-    let mut out = vec![];
-    for (i, line) in text.lines().enumerate() {
-        let line = line.split('#').next().unwrap_or("").trim();
-        if line.is_empty() {
-            continue;
-        }
-        let fields = fields(line);
-        let nums: std::result::Result<Vec<f64>, _> =
-            fields.iter().map(|f| f.parse::<f64>()).collect();
-        match nums {
-            Ok(v) if v.len() == 2 && v.iter().all(|x| x.is_finite()) => {
-                out.push(super::shape::ShapePoint {
-                    uv: [v[0], v[1]],
-                    label: format!("{} line {}", path.display(), i + 1),
-                })
-            }
-            Err(_) if is_header(i, &fields) => continue,
-            _ => {
-                return Err(Error::parse(
-                    path,
-                    Location::Line(i + 1),
-                    format!("expected two finite numbers u,v, got {line:?}"),
-                ))
-            }
-        }
-    }
-    if out.is_empty() {
+    let rows = numeric_rows::<2>(path, text, "two finite numbers u,v")?;
+    if rows.is_empty() {
         return Err(Error::InvalidInput(format!(
             "{}: no constraint points",
             path.display()
         )));
     }
-    Ok(out)
+    Ok(rows
+        .into_iter()
+        .map(|(line, uv)| super::shape::ShapePoint {
+            uv,
+            label: format!("{} line {line}", path.display()),
+        })
+        .collect())
 }
 
 /// Reads a CSV of `u,v` constraint points (the file is never modified).

@@ -13,6 +13,17 @@ fn stdout(out: &Output) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
+/// Runs surfkit with `args` (paths as `&OsStr`s), asserts it succeeded, returns its stdout.
+fn succeeds(args: &[&std::ffi::OsStr]) -> String {
+    let out = surfkit().args(args).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    stdout(&out)
+}
+
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("surfkit-text-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -96,20 +107,17 @@ fn zero_levels_of_subdivision_keep_triangles_and_say_faces() {
     let dir = scratch("zero");
     let tri = dir.join("tri.obj");
     std::fs::write(&tri, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let out = dir.join("out.obj");
     for (levels, said) in [("0", "1 faces → 1 faces"), ("1", "1 faces → 3 quads")] {
-        let out = surfkit()
-            .args(["subdivide", "-l", levels])
-            .arg(&tri)
-            .arg("-o")
-            .arg(dir.join("out.obj"))
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        assert!(stdout(&out).contains(said), "{levels}: {}", stdout(&out));
+        let text = succeeds(&[
+            "subdivide".as_ref(),
+            "-l".as_ref(),
+            levels.as_ref(),
+            tri.as_ref(),
+            "-o".as_ref(),
+            out.as_ref(),
+        ]);
+        assert!(text.contains(said), "{levels}: {text}");
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -124,26 +132,12 @@ fn faces_without_texture_coordinates_leave_the_others_theirs() {
                 vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
                 o body\nf 1/1 2/2 3/3 4/4\no bolt\nf 2 5 3\n";
     std::fs::write(&mesh, text).unwrap();
-    let out = surfkit().arg("info").arg(&mesh).output().unwrap();
-    assert!(
-        stdout(&out).contains("uvs on 1 of 2 faces"),
-        "{}",
-        stdout(&out)
-    );
+    let text = succeeds(&["info".as_ref(), mesh.as_ref()]);
+    assert!(text.contains("uvs on 1 of 2 faces"), "{text}");
 
     // Converted: the same text back (the untextured face without `/vt`).
     let copy = dir.join("copy.obj");
-    let out = surfkit()
-        .arg("convert")
-        .arg(&mesh)
-        .arg(&copy)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeds(&["convert".as_ref(), mesh.as_ref(), copy.as_ref()]);
     let written = std::fs::read_to_string(&copy).unwrap();
     assert!(written.contains("f 1/1 2/2 3/3 4/4\n"), "{written}");
     assert!(written.contains("f 2 5 3\n"), "{written}");
@@ -151,28 +145,18 @@ fn faces_without_texture_coordinates_leave_the_others_theirs() {
 
     // Subdivided: the quad's 4 children textured, the triangle's 3 not.
     let refined = dir.join("refined.obj");
-    let subdivide = |extra: &[&str]| {
-        let out = surfkit()
-            .args(["subdivide", "-l", "1"])
-            .args(extra)
-            .arg(&mesh)
-            .arg("-o")
-            .arg(&refined)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        stdout(&out)
+    let subdivide = |extra: &str| {
+        let mut args = vec!["subdivide".as_ref(), "-l".as_ref(), "1".as_ref()];
+        args.extend((!extra.is_empty()).then_some(std::ffi::OsStr::new(extra)));
+        args.extend([mesh.as_os_str(), "-o".as_ref(), refined.as_os_str()]);
+        succeeds(&args)
     };
-    let json: serde_json::Value = serde_json::from_str(&subdivide(&["--json"])).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&subdivide("--json")).unwrap();
     assert_eq!(
         (json["faces"].as_u64(), json["textured_faces"].as_u64()),
         (Some(7), Some(4))
     );
-    let text = subdivide(&[]);
+    let text = subdivide("");
     assert!(
         text.contains("UVs refined on 4 faces (from the 1 of 2 control faces that have them)"),
         "{text}"
