@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Seeds the corpus of one target and runs it.
-# Usage: fuzz/run.sh read_obj|read_ply|read_off|read_scattered|parse_options|mesh_topology \
+# Usage: fuzz/run.sh read_obj|read_ply|read_off|read_stl|read_scattered|parse_options|mesh_topology \
 #        [seconds] [extra cargo-fuzz args...]
 set -euo pipefail
 target=$1
@@ -33,11 +33,11 @@ esac
 [ "$ext" = none ] || find fixtures/meshes fixtures/bad -name "*.$ext" -size -20k -exec cp {} "$corpus"/ \;
 # fixtures/meshes has no small PLY and one small OFF: convert two small OBJ meshes
 # (quads with UVs; objects) with surfkit itself, in every encoding it writes.
-if [ "$ext" = ply ] || [ "$ext" = off ]; then
+if [ "$ext" = ply ] || [ "$ext" = off ] || [ "$ext" = stl ]; then
     for m in catmark_torus joined_tetrahedra; do
         cargo run --quiet -- convert --keep-degenerate "fixtures/meshes/$m.obj" "$corpus/$m.$ext" >/dev/null
-        if [ "$ext" = ply ]; then
-            cargo run --quiet -- convert --keep-degenerate --ascii "fixtures/meshes/$m.obj" "$corpus/${m}_ascii.ply" >/dev/null
+        if [ "$ext" = ply ] || [ "$ext" = stl ]; then
+            cargo run --quiet -- convert --keep-degenerate --ascii "fixtures/meshes/$m.obj" "$corpus/${m}_ascii.$ext" >/dev/null
         fi
     done
 fi

@@ -781,8 +781,8 @@ int surfkit_mesh_new(const double *positions,
                      struct SurfkitMesh **out);
 
 /*
- Reads an OBJ, PLY (ASCII or binary) or OFF file, polygons kept (degenerate facets too:
- the EAT counts them).
+ Reads an OBJ, PLY (ASCII or binary), OFF or STL (corners welded by coordinates) file,
+ polygons kept (degenerate facets too: the EAT counts them).
 
  # Safety
  `path` must be a NUL-terminated UTF-8 string; `out` writable.
@@ -790,7 +790,7 @@ int surfkit_mesh_new(const double *positions,
 int surfkit_mesh_read(const char *path, struct SurfkitMesh **out);
 
 /*
- Writes the mesh as OBJ, PLY (binary little endian) or OFF, by the path's extension,
+ Writes the mesh as OBJ, PLY (binary little endian), OFF or binary STL, by the path's extension,
  atomically (a temporary file renamed over the target).
 
  # Safety

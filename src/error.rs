@@ -77,7 +77,7 @@ pub enum Error {
         message: String,
     },
     /// A file's extension names no format we read or write.
-    #[error("{}: unknown mesh format (extension {extension:?}); surfkit reads and writes .obj, .ply and .off", path.display())]
+    #[error("{}: unknown mesh format (extension {extension:?}); surfkit reads and writes .obj, .ply, .off and .stl", path.display())]
     UnknownFormat { path: PathBuf, extension: String },
     /// A precondition of a function was not met by its arguments.
     #[error("invalid input: {0}")]

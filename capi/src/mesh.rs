@@ -143,8 +143,8 @@ pub unsafe extern "C" fn surfkit_mesh_new(
     })
 }
 
-/// Reads an OBJ, PLY (ASCII or binary) or OFF file, polygons kept (degenerate facets too:
-/// the EAT counts them).
+/// Reads an OBJ, PLY (ASCII or binary), OFF or STL (corners welded by coordinates) file,
+/// polygons kept (degenerate facets too: the EAT counts them).
 ///
 /// # Safety
 /// `path` must be a NUL-terminated UTF-8 string; `out` writable.
@@ -168,7 +168,7 @@ pub unsafe extern "C" fn surfkit_mesh_read(
     })
 }
 
-/// Writes the mesh as OBJ, PLY (binary little endian) or OFF, by the path's extension,
+/// Writes the mesh as OBJ, PLY (binary little endian), OFF or binary STL, by the path's extension,
 /// atomically (a temporary file renamed over the target).
 ///
 /// # Safety

@@ -97,7 +97,7 @@ impl Mesh {
         self.mesh.face_count()
     }
 
-    /// Writes the mesh (.obj, .ply or .off by the extension), never half-written.
+    /// Writes the mesh (.obj, .ply, .off or binary .stl by the extension), never half-written.
     fn write(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let mesh = &self.mesh;
         py.detach(|| write(&path, mesh, &WriteOptions::default()))
@@ -143,7 +143,7 @@ impl Mesh {
     }
 }
 
-/// Reads an OBJ, PLY or OFF file as the CLI's `eat` and the C door do (`InvalidInput` names
+/// Reads an OBJ, PLY, OFF or STL file as the CLI's `eat` and the C door do (`InvalidInput` names
 /// the line or element of a malformed file): degenerate faces (fewer than 3 corners, a
 /// repeated vertex) are kept, for `eat` to count them as flaws.
 #[pyfunction]

@@ -1,17 +1,17 @@
-//! `surfkit convert <in> <out>`: OBJ ↔ PLY ↔ OFF, atomically, never over the input.
+//! `surfkit convert <in> <out>`: OBJ ↔ PLY ↔ OFF ↔ STL, atomically, never over the input.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use crate::mesh::io::{read_with, write, PlyEncoding, ReadOptions, WriteOptions};
+use crate::mesh::io::{read_with, write, Format, PlyEncoding, ReadOptions, WriteOptions};
 
 #[derive(clap::Args, Debug)]
 pub struct ConvertArgs {
-    /// The mesh to read (.obj, .ply, .off).
+    /// The mesh to read (.obj, .ply, .off, .stl).
     pub input: PathBuf,
     /// The file to write; its extension chooses the format.
     pub output: PathBuf,
-    /// Write ASCII PLY instead of binary little endian.
+    /// Write ASCII PLY or STL instead of binary (little endian).
     #[arg(long)]
     pub ascii: bool,
     /// Keep faces with fewer than 3 corners or a repeated vertex instead of refusing the file.
@@ -38,14 +38,25 @@ pub fn run(args: &ConvertArgs) -> crate::Result<ExitCode> {
         },
     };
     write(&args.output, &mesh, &options)?;
+    // STL holds triangles: polygons were written as fans.
+    let triangles = (Format::from_path(&args.output)? == Format::Stl).then(|| {
+        mesh.faces()
+            .map(|f| f.len().saturating_sub(2))
+            .sum::<usize>()
+    });
     if args.json {
         super::print_json(&serde_json::json!({
             "input": args.input, "output": args.output,
             "vertices": mesh.vertex_count(), "faces": mesh.face_count(),
+            "triangles_written": triangles,
         }))?;
     } else {
+        let written = match triangles {
+            Some(t) if t != mesh.face_count() => format!(" (written as {t} triangles)"),
+            _ => String::new(),
+        };
         println!(
-            "{} → {}: {} vertices, {} faces",
+            "{} → {}: {} vertices, {} faces{written}",
             args.input.display(),
             args.output.display(),
             mesh.vertex_count(),

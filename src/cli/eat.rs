@@ -25,8 +25,8 @@ const HTML_TEXT_FLAWS: usize = 200;
 
 #[derive(clap::Args, Debug)]
 pub struct EatArgs {
-    /// The mesh (.obj, .ply or .off); several files or folders (searched recursively for
-    /// .obj, .ply and .off) are scanned in parallel with one summary line per file.
+    /// The mesh (.obj, .ply, .off or .stl); several files or folders (searched recursively for
+    /// .obj, .ply, .off and .stl) are scanned in parallel with one summary line per file.
     #[arg(required = true, num_args = 1..)]
     pub meshes: Vec<PathBuf>,
     /// Test points at the end of each OBJ `g` group or `o` object.

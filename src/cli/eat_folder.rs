@@ -20,7 +20,7 @@ use crate::error::{Error, Result};
 use crate::topology::{EatReport, FlawKind};
 
 /// The mesh files named on the command line: files as given, folders searched
-/// recursively for .obj, .ply and .off (in path order). A folder that holds none is an
+/// recursively for .obj, .ply, .off and .stl (in path order). A folder that holds none is an
 /// error: there is nothing in it to check, and a pipeline must not read that as a pass.
 fn mesh_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
@@ -39,7 +39,7 @@ fn mesh_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>> {
             })?;
             let is_mesh = entry.path().extension().is_some_and(|x| {
                 let x = x.to_string_lossy().to_ascii_lowercase();
-                x == "obj" || x == "ply" || x == "off"
+                x == "obj" || x == "ply" || x == "off" || x == "stl"
             });
             if entry.file_type().is_file() && is_mesh {
                 found.push(entry.into_path());
@@ -47,8 +47,8 @@ fn mesh_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>> {
         }
         if found.is_empty() {
             return Err(Error::InvalidInput(format!(
-                "{}: no mesh file to check: the folder and its subfolders hold no .obj, .ply or \
-                 .off file (extensions in any case)",
+                "{}: no mesh file to check: the folder and its subfolders hold no .obj, .ply, \
+                 .off or .stl file (extensions in any case)",
                 input.display()
             )));
         }

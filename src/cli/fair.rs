@@ -55,7 +55,7 @@ pub enum MethodArg {
 
 #[derive(clap::Args, Debug)]
 pub struct FairArgs {
-    /// The control mesh (.obj, .ply, .off), quads with a boundary (or fixed vertices).
+    /// The control mesh (.obj, .ply, .off, .stl), quads with a boundary (or fixed vertices).
     pub input: PathBuf,
     /// The optimized control mesh; same faces and vertex order as the (prepared) input.
     #[arg(short, long)]

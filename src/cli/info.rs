@@ -8,7 +8,7 @@ use crate::mesh::io::{read_with, Format, ReadOptions};
 
 #[derive(clap::Args, Debug)]
 pub struct InfoArgs {
-    /// The mesh (.obj, .ply or .off).
+    /// The mesh (.obj, .ply, .off or .stl).
     pub mesh: PathBuf,
     /// Print a JSON report instead of text.
     #[arg(long)]

@@ -16,7 +16,7 @@ use super::subdivide::BoundaryArg;
 
 #[derive(clap::Args, Debug)]
 pub struct LimitArgs {
-    /// The control mesh (.obj, .ply, .off).
+    /// The control mesh (.obj, .ply, .off, .stl).
     pub input: PathBuf,
     /// The sampled surface to write (.ply keeps the curvature as `quality`).
     #[arg(short, long)]

@@ -56,7 +56,7 @@ pub struct Cli {
 enum Command {
     /// Counts, face arities, bounding box, and what OpenMesh's half-edge structure refused.
     Info(info::InfoArgs),
-    /// Converts between OBJ, PLY (binary by default) and OFF.
+    /// Converts between OBJ, PLY (binary by default), OFF and STL (binary by default).
     Convert(convert::ConvertArgs),
     /// The Euler Accompanying Test: V, E, F, χ at test points, and every topological flaw.
     Eat(eat::EatArgs),

@@ -31,7 +31,7 @@ pub enum FillWith {
 
 #[derive(clap::Args, Debug)]
 pub struct RepairArgs {
-    /// The mesh to repair (.obj, .ply or .off); it is never modified.
+    /// The mesh to repair (.obj, .ply, .off or .stl); it is never modified.
     pub input: PathBuf,
     /// Where to write the repaired mesh.
     pub output: PathBuf,

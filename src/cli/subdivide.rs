@@ -64,7 +64,7 @@ impl From<UvArg> for FaceVaryingInterpolation {
 
 #[derive(clap::Args, Debug)]
 pub struct SubdivideArgs {
-    /// The control mesh (.obj, .ply, .off).
+    /// The control mesh (.obj, .ply, .off, .stl).
     pub input: PathBuf,
     /// Levels of refinement (each splits every face into quads, ×4 faces per level).
     #[arg(short, long, default_value_t = 2)]

@@ -1,5 +1,5 @@
 //! Polygon meshes as surfkit holds them (`PolygonMesh`, a soup that never refuses input)
-//! and their files (`io`: OBJ, PLY, OFF); vector and plane-polygon geometry.
+//! and their files (`io`: OBJ, PLY, OFF, STL); vector and plane-polygon geometry.
 
 pub mod io;
 pub mod planar;

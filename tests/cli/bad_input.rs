@@ -19,6 +19,9 @@ fn bad(name: &str) -> PathBuf {
 const HEADER: usize = 213;
 const VERTEX: usize = 12;
 const TRIANGLE: usize = 13;
+/// Binary STL: an 80-byte header and the facet count, then 50 bytes a facet.
+const STL_HEADER: usize = 84;
+const STL_FACET: usize = 50;
 
 fn element(kind: &str, index: usize, byte_offset: usize) -> Location {
     Location::Element {
@@ -208,6 +211,40 @@ fn cases() -> Vec<(&'static str, Location, &'static str)> {
             Line(2),
             "not an OFF file: expected OFF, COFF, NOFF or STOFF, found \"MESH\"",
         ),
+        // STL
+        ("stl_ascii_nan.stl", Line(5), "vertex coordinate NaN is not finite"),
+        (
+            "stl_ascii_truncated.stl",
+            Line(6),
+            "the file ends inside a solid (expected 'vertex x y z' or 'endloop'): it is truncated",
+        ),
+        (
+            "stl_ascii_repeated_corner.stl",
+            Line(2),
+            "facet 0: corners 1 and 3 are the same point (0, 0, 0): a degenerate facet",
+        ),
+        (
+            "stl_ascii_bad_keyword.stl",
+            Line(3),
+            "expected 'outer loop', found \"outerloop\"",
+        ),
+        (
+            "stl_bin_truncated.stl",
+            Location::Header,
+            "binary STL: the header gives 2 facets, which take 184 bytes, but the file has \
+             154; the file is truncated: it ends inside facet 1 (0-based)",
+        ),
+        (
+            "stl_bin_nan.stl",
+            element("facet", 1, STL_HEADER + STL_FACET),
+            "corner 2 has a coordinate that is not finite (NaN)",
+        ),
+        (
+            "stl_bin_trailing_bytes.stl",
+            Location::Header,
+            "the header gives 1 facet, which takes 134 bytes, but the file has 139; 5 bytes \
+             follow the last facet",
+        ),
     ]
 }
 
@@ -263,13 +300,14 @@ fn each_bad_file_names_file_place_and_problem() {
 }
 
 /// Files refused only because a face is degenerate.
-const DEGENERATE: [(&str, &[&[u32]]); 6] = [
+const DEGENERATE: [(&str, &[&[u32]]); 7] = [
     ("obj_face_two_vertices.obj", &[&[0, 1]]),
     ("obj_repeated_vertex.obj", &[&[0, 1, 1, 3]]),
     ("ply_ascii_face_two_vertices.ply", &[&[0, 1]]),
     ("ply_bin_face_two_vertices.ply", &[&[0, 1, 2], &[0, 1]]),
     ("off_face_two_vertices.off", &[&[0, 1]]),
     ("off_repeated_vertex.off", &[&[0, 1, 1, 3]]),
+    ("stl_ascii_repeated_corner.stl", &[&[0, 1, 0]]),
 ];
 
 #[test]
@@ -299,19 +337,20 @@ fn every_other_case_fails_the_same_way_with_keep_degenerate() {
 
 #[test]
 fn unknown_extension_names_file_and_extension() {
-    let path = bad("mesh.stl");
+    let path = bad("mesh.3mf");
     let err = read(&path).unwrap_err();
     match &err {
         Error::UnknownFormat { path: p, extension } => {
             assert_eq!(p, &path);
-            assert_eq!(extension, "stl");
+            assert_eq!(extension, "3mf");
         }
         other => panic!("expected UnknownFormat, got {other:?}"),
     }
     assert_eq!(
         err.to_string(),
         format!(
-            "{}: unknown mesh format (extension \"stl\"); surfkit reads and writes .obj, .ply and .off",
+            "{}: unknown mesh format (extension \"3mf\"); surfkit reads and writes .obj, .ply, .off \
+             and .stl",
             path.display()
         )
     );
@@ -323,7 +362,7 @@ fn every_fixture_is_checked() {
     let known: Vec<&str> = cases().iter().map(|c| c.0).collect();
     for entry in std::fs::read_dir(bad("")).unwrap() {
         let name = entry.unwrap().file_name().into_string().unwrap();
-        if name == "README.md" || name == "make_binary.py" || name == "mesh.stl" {
+        if name == "README.md" || name == "make_binary.py" || name == "mesh.3mf" {
             continue;
         }
         assert!(known.contains(&name.as_str()), "{name} has no case");

@@ -44,10 +44,16 @@ property list uchar int vertex_indices\nend_header\n"
         ("truncated.ply", ply_truncated, "vertex"),
         ("lying.off", b"OFF\n1000000000 1 0\n0 0 0\n".to_vec(), "OFF"),
         (
-            "mesh.stl",
-            b"solid x\nendsolid x\n".to_vec(),
-            "unknown mesh format",
+            "lying.stl",
+            [&[b' '; 80][..], &1_000_000_000u32.to_le_bytes()].concat(),
+            "the header gives 1000000000 facets",
         ),
+        (
+            "cut.stl",
+            b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n".to_vec(),
+            "line 4: the file ends inside a solid",
+        ),
+        ("mesh.3mf", b"PK\x03\x04".to_vec(), "unknown mesh format"),
     ]
 }
 
@@ -125,7 +131,7 @@ fn every_mesh_command_refuses_every_malformed_file_cleanly() {
             cases += 1;
         }
     }
-    assert_eq!(cases, 10 * 12, "10 malformed files × 12 commands");
+    assert_eq!(cases, 12 * 12, "12 malformed files × 12 commands");
 }
 
 /// A small valid mesh: a 16 × 16 quad grid lifted into a bump (open, so `fair` holds its

@@ -289,3 +289,62 @@ fn surfkit_reads_what_openmesh_writes() {
         }
     }
 }
+
+/// STL holds no vertex indices: surfkit welds the corners by their 32-bit coordinates, as
+/// OpenMesh's STL reader does. The STL files surfkit writes (binary and ASCII, polygons as
+/// fans) read into the same vertices, in the same order, and the same edges and faces with
+/// both readers; and surfkit reads OpenMesh's own STL of a triangle mesh into its vertices
+/// and faces.
+#[test]
+fn surfkit_and_openmesh_read_stl_alike() {
+    use surfkit::halfedge::read_with_openmesh;
+    use surfkit::mesh::io::{write, PlyEncoding, WriteOptions};
+    let dir = tempfile::tempdir().unwrap();
+    for name in [
+        "catmark_nonquads.obj",
+        "spot.obj",
+        "fixed_top.ply",
+        "rabbit.obj",
+    ] {
+        let mesh = read_with(&crate::common::meshes_dir().join(name), &lenient()).unwrap();
+        for ply_encoding in [PlyEncoding::BinaryLittleEndian, PlyEncoding::Ascii] {
+            let path = dir.path().join("surfkit.stl");
+            write(&path, &mesh, &WriteOptions { ply_encoding }).unwrap();
+            let ours = surfkit::mesh::io::read(&path).unwrap();
+            let triangles: usize = mesh.faces().map(|f| f.len() - 2).sum();
+            assert_eq!(ours.face_count(), triangles, "{name} {ply_encoding:?}");
+            let theirs = read_with_openmesh(&path).unwrap();
+            let ours_built = halfedge::build(&ours).unwrap();
+            assert_eq!(ours_built.refused().count(), 0);
+            let as_f32 = |p: &[f64]| p.iter().map(|&c| c as f32).collect::<Vec<f32>>();
+            let ours_flat: Vec<f64> = ours.positions.iter().flatten().copied().collect();
+            assert_eq!(as_f32(&ours_flat), as_f32(&theirs.positions()), "{name}");
+            assert_eq!(theirs.face_count(), ours.face_count(), "{name}");
+            assert_eq!(edge_set(&theirs), edge_set(&ours_built.mesh), "{name}");
+        }
+    }
+    let spot = read_with(&crate::common::meshes_dir().join("spot.obj"), &lenient()).unwrap();
+    let built = halfedge::build(&spot).unwrap();
+    let path = dir.path().join("openmesh.stl");
+    built.mesh.write_with_openmesh(&path).unwrap();
+    let back = surfkit::mesh::io::read(&path).unwrap();
+    assert_eq!(back.vertex_count(), spot.vertex_count());
+    assert_eq!(back.face_count(), spot.face_count());
+    // The welded numbering is by first appearance: map it back through the positions.
+    let mut of_position = std::collections::HashMap::new();
+    for (v, p) in spot.positions.iter().enumerate() {
+        of_position.insert(p.map(|c| (c as f32).to_bits()), v as u32);
+    }
+    // OpenMesh starts each facet at a corner of its own choosing: faces compare up to rotation.
+    let rotated = |f: &[u32]| {
+        let k = (0..f.len()).min_by_key(|&i| f[i]).unwrap();
+        f[k..].iter().chain(&f[..k]).copied().collect::<Vec<u32>>()
+    };
+    for (f, g) in spot.faces().zip(back.faces()) {
+        let g: Vec<u32> = g
+            .iter()
+            .map(|&v| of_position[&back.positions[v as usize].map(|c| (c as f32).to_bits())])
+            .collect();
+        assert_eq!(rotated(f), rotated(&g));
+    }
+}

@@ -36,7 +36,7 @@ import surfkit
 from surfkit._sandbox import Sandbox
 from surfkit._surfkit import FLAW_KINDS
 
-MESH_SUFFIXES = (".obj", ".ply", ".off")
+MESH_SUFFIXES = (".obj", ".ply", ".off", ".stl")
 
 #: The scalar keys of surfkit.eat's dict kept per file, in column order.
 SCALAR_KEYS = [

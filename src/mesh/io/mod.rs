@@ -1,7 +1,9 @@
-//! Reading and writing polygon meshes: OBJ, PLY (ASCII, binary little and big endian) and OFF.
+//! Reading and writing polygon meshes: OBJ, PLY (ASCII, binary little and big endian), OFF
+//! and STL (binary and ASCII).
 //!
 //! Readers keep polygons as written (no triangulation, no welding, unreferenced vertices
-//! kept), so that counts such as V, E and χ describe the file. Writers are atomic: the data
+//! kept), so that counts such as V, E and χ describe the file; STL, which has no vertex
+//! indices, is welded by exact coordinates (`stl`). Writers are atomic: the data
 //! goes to a temporary file in the target's folder which is renamed over the target only
 //! once complete, so a failed write never leaves a half-written file behind. A target
 //! that is a pipe or a device (`-o /dev/stdout`, a FIFO) is written in place instead.
@@ -12,6 +14,7 @@ mod obj;
 mod off;
 mod ply;
 mod ply_fast;
+mod stl;
 mod text;
 
 use std::path::Path;
@@ -30,6 +33,7 @@ pub enum Format {
     Obj,
     Ply,
     Off,
+    Stl,
 }
 
 impl std::fmt::Display for Format {
@@ -38,6 +42,7 @@ impl std::fmt::Display for Format {
             Format::Obj => "OBJ",
             Format::Ply => "PLY",
             Format::Off => "OFF",
+            Format::Stl => "STL",
         })
     }
 }
@@ -57,6 +62,7 @@ impl Format {
             "obj" => Ok(Format::Obj),
             "ply" => Ok(Format::Ply),
             "off" => Ok(Format::Off),
+            "stl" => Ok(Format::Stl),
             _ => Err(Error::UnknownFormat {
                 path: path.to_path_buf(),
                 extension: ext,
@@ -76,7 +82,8 @@ pub struct ReadOptions {
 /// Options for writing.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct WriteOptions {
-    /// PLY encoding; binary little endian unless asked otherwise.
+    /// PLY encoding; binary little endian unless asked otherwise. ASCII also asks for ASCII
+    /// STL (binary otherwise: STL has one byte order).
     pub ply_encoding: PlyEncoding,
 }
 
@@ -132,6 +139,7 @@ pub fn parse(
         Format::Obj => obj::parse(path, bytes, options)?,
         Format::Ply => ply::parse(path, bytes, options)?,
         Format::Off => off::parse(path, bytes, options)?,
+        Format::Stl => stl::parse(path, bytes, options)?,
     };
     debug_assert!(mesh.validate().is_ok());
     Ok(mesh)
@@ -142,7 +150,9 @@ pub fn parse(
 /// OBJ keeps positions, faces, objects, groups, UVs and vertex colours (as `v x y z r g b`),
 /// not quality; PLY keeps everything (objects and groups as face properties with their
 /// names in header comments); OFF keeps positions, faces, vertex colours (COFF) and
-/// objects/groups as `# surfkit` comments that surfkit reads back.
+/// objects/groups as `# surfkit` comments that surfkit reads back; STL keeps positions
+/// (rounded to 32-bit floats in binary STL) and polygons as fans of triangles, and ASCII STL
+/// objects as `solid` names.
 ///
 /// # Errors
 /// [`Error::InvalidInput`] when the mesh breaks its invariants, [`Error::UnknownFormat`],
@@ -150,9 +160,14 @@ pub fn parse(
 pub fn write(path: &Path, mesh: &PolygonMesh, options: &WriteOptions) -> Result<()> {
     let format = Format::from_path(path)?;
     mesh.validate()?;
+    if format == Format::Stl {
+        stl::check(mesh)?;
+    }
     write_atomically(path, |out| match format {
         Format::Obj => obj::write(out, mesh),
         Format::Ply => ply::write(out, mesh, options.ply_encoding),
         Format::Off => off::write(out, mesh),
+        Format::Stl if options.ply_encoding == PlyEncoding::Ascii => stl::write_ascii(out, mesh),
+        Format::Stl => stl::write_binary(out, mesh),
     })
 }
