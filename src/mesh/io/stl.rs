@@ -65,9 +65,13 @@ fn binary_facet_count(bytes: &[u8]) -> Option<usize> {
     Some(u32::from_le_bytes(word.try_into().expect("four bytes")) as usize)
 }
 
-/// Starts with `solid` (after white space) and has no NUL byte near the start.
+/// Starts with `solid` (after a UTF-8 byte-order mark and white space) and has no NUL byte
+/// near the start.
 fn looks_ascii(bytes: &[u8]) -> bool {
-    let text = bytes.trim_ascii_start();
+    let text = bytes
+        .strip_prefix(b"\xEF\xBB\xBF")
+        .unwrap_or(bytes)
+        .trim_ascii_start();
     let starts_solid = text.len() >= 5 && text[..5].eq_ignore_ascii_case(b"solid");
     starts_solid && !bytes[..bytes.len().min(HEADER_BYTES + ASCII_PROBE_BYTES)].contains(&0)
 }
@@ -502,6 +506,8 @@ mod tests {
             vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\nendsolid lid\nSOLID base\n \
             FACET NORMAL 0 0 0\n OUTER LOOP\n VERTEX 1.00000001 0 0\n VERTEX 0 0 0\n VERTEX 0 -1 0\n \
             ENDLOOP\n ENDFACET\nENDSOLID\n";
+        let with_bom = [&b"\xEF\xBB\xBF"[..], text].concat();
+        assert_eq!(read(&with_bom).unwrap().face_count(), 2);
         let m = read(text).unwrap();
         // 1.00000001 is 1 as a 32-bit float: welded, with the first appearance's digits.
         assert_eq!((m.vertex_count(), m.face_count()), (4, 2));
