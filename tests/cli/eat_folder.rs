@@ -154,7 +154,7 @@ fn a_folder_without_mesh_files_is_an_error_naming_it() {
             assert!(
                 err.contains(&folder.display().to_string())
                     && err.contains("no mesh file")
-                    && err.contains(".obj, .ply or .off"),
+                    && err.contains(".obj, .ply, .off or .stl"),
                 "{err}"
             );
             assert!(out.stdout.is_empty(), "nothing scanned");
