@@ -20,7 +20,7 @@ use std::path::Path;
 
 use foldhash::{HashMap, HashMapExt};
 
-use super::text::{parse_f64, show, write_f64, Lines};
+use super::text::{parse_f64, show, tokens, write_f64, Lines};
 use super::ReadOptions;
 use crate::error::{Error, Location, Result};
 use crate::mesh::{FaceLabels, PolygonMesh, NO_LABEL};
@@ -222,11 +222,7 @@ fn parse_ascii(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<Polyg
     for (n, line) in Lines::new(bytes) {
         let err = |message: String| Error::parse(path, Location::Line(n), message);
         let text = line.trim_ascii();
-        let Some(keyword) = text
-            .split(u8::is_ascii_whitespace)
-            .next()
-            .filter(|k| !k.is_empty())
-        else {
+        let Some(keyword) = tokens(text).next() else {
             continue;
         };
         // A truncation is shown at the last line that holds something.
@@ -310,10 +306,7 @@ fn expected(state: Expect) -> &'static str {
 
 /// The three finite numbers of a `vertex` record.
 fn vertex_coordinates(rest: &[u8]) -> std::result::Result<[f64; 3], String> {
-    let tokens: Vec<&[u8]> = rest
-        .split(u8::is_ascii_whitespace)
-        .filter(|t| !t.is_empty())
-        .collect();
+    let tokens: Vec<&[u8]> = tokens(rest).collect();
     if tokens.len() != 3 {
         return Err(format!(
             "a vertex needs 3 coordinates, this one has {}",
