@@ -6,9 +6,10 @@
 //! first appearance (as MeshLab's and OpenMesh's STL readers do): without that no two
 //! facets would share an edge and every topological count would describe a soup. An ASCII
 //! vertex keeps the digits it was written with (its first appearance's). Nothing else is
-//! merged: corners a rounding apart stay apart, and the EAT shows the cracks they leave. Facet normals are not kept
-//! (writers often leave them zero or stale; the winding gives the orientation), nor the
-//! binary attribute word. ASCII `solid NAME` blocks become objects.
+//! merged: corners a rounding apart stay apart, and the EAT shows the cracks they leave.
+//! Facet normals are not kept (writers often leave them zero or stale; the winding gives
+//! the orientation), nor the binary attribute word. ASCII `solid NAME` blocks become
+//! objects.
 //!
 //! Binary or ASCII is decided the way robust readers do: a file whose length is exactly
 //! what its facet count says (84 + 50 bytes a facet) is binary even when its 80-byte header
