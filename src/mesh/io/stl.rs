@@ -307,15 +307,15 @@ fn expected(state: Expect) -> &'static str {
 
 /// The three finite numbers of a `vertex` record.
 fn vertex_coordinates(rest: &[u8]) -> std::result::Result<[f64; 3], String> {
-    let tokens: Vec<&[u8]> = tokens(rest).collect();
-    if tokens.len() != 3 {
+    // Counted first, then read: no allocation per vertex line.
+    let count = tokens(rest).count();
+    if count != 3 {
         return Err(format!(
-            "a vertex needs 3 coordinates, this one has {}",
-            tokens.len()
+            "a vertex needs 3 coordinates, this one has {count}"
         ));
     }
     let mut p = [0.0; 3];
-    for (c, t) in p.iter_mut().zip(&tokens) {
+    for (c, t) in p.iter_mut().zip(tokens(rest)) {
         *c = parse_f64(t)
             .ok_or_else(|| format!("vertex coordinate {:?} is not a number", show(t)))?;
         if !c.is_finite() {
@@ -518,6 +518,12 @@ mod tests {
         let bad = String::from_utf8_lossy(text).replace("vertex 1 0 0", "vertex 1 zero 0");
         let e = read(bad.as_bytes()).unwrap_err().to_string();
         assert!(e.contains("line 5") && e.contains("\"zero\""), "{e}");
+        for (record, count) in [("vertex 1 0", 2), ("vertex 1 0 0 0", 4)] {
+            let bad = String::from_utf8_lossy(text).replace("vertex 1 0 0", record);
+            let e = read(bad.as_bytes()).unwrap_err().to_string();
+            let message = format!("line 5: a vertex needs 3 coordinates, this one has {count}");
+            assert!(e.contains(&message), "{e}");
+        }
     }
 
     #[test]
