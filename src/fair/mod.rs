@@ -40,6 +40,7 @@ pub use preparation::topology::{condition_violation, MeshTopology};
 pub use solvers::block_method::{block_newton, BlockOptions, BlockPhase, BlockReport};
 pub use solvers::blocks::voronoi_blocks;
 pub use solvers::cholesky::{Factor, Factorizer};
+pub use solvers::coarse_correction::{CoarseCorrection, COARSE_CORRECTION_FREE_VERTICES};
 pub use solvers::coordinate_floor::{coordinate_floor, ulp};
 pub use solvers::levels::{optimize_levels, optimize_levels_observed, CoarseToFine, LevelReport};
 pub use solvers::newton::{

@@ -10,14 +10,21 @@ use std::ops::ControlFlow;
 use std::process::Command;
 
 use surfkit::fair::{
-    optimize, optimize_observed, refine_surface, tubes, CoarseStart, FairMethod, FairOptions,
-    FairReport, RepresentationOptions, SurfaceKind, MULTILEVEL_FREE_VERTICES, PLAIN_MEMORY,
+    optimize, optimize_observed, refine_surface, tubes, CoarseCorrection, CoarseStart, FairMethod,
+    FairOptions, FairReport, RepresentationOptions, SurfaceKind, COARSE_CORRECTION_FREE_VERTICES,
+    MULTILEVEL_FREE_VERTICES, PLAIN_MEMORY,
 };
 use surfkit::limits::MemoryBudget;
 use surfkit::mesh::PolygonMesh;
 
 fn run(mesh: &PolygonMesh, surface: SurfaceKind, method: FairMethod) -> (PolygonMesh, FairReport) {
-    run_with(mesh, surface, method, CoarseStart::Never)
+    run_with(
+        mesh,
+        surface,
+        method,
+        CoarseStart::Never,
+        CoarseCorrection::Auto,
+    )
 }
 
 fn run_with(
@@ -25,21 +32,20 @@ fn run_with(
     surface: SurfaceKind,
     method: FairMethod,
     coarse_start: CoarseStart,
+    coarse_correction: CoarseCorrection,
 ) -> (PolygonMesh, FairReport) {
-    optimize(
-        mesh,
-        &FairOptions {
-            representation: RepresentationOptions {
-                surface,
-                ..RepresentationOptions::default()
-            },
-            max_refinements: 0,
-            method,
-            coarse_start,
-            ..FairOptions::default()
+    let mut options = FairOptions {
+        representation: RepresentationOptions {
+            surface,
+            ..RepresentationOptions::default()
         },
-    )
-    .unwrap()
+        max_refinements: 0,
+        method,
+        coarse_start,
+        ..FairOptions::default()
+    };
+    options.newton.coarse_correction = coarse_correction;
+    optimize(mesh, &options).unwrap()
 }
 
 fn bounding_box_diagonal(mesh: &PolygonMesh) -> f64 {
@@ -66,8 +72,20 @@ fn same_minimum(surface: SurfaceKind) {
     assert!(plain_report.coarse_start.is_none() && plain_report.newton.converged);
     assert_eq!(plain_report.newton.cg_iterations, 0);
     let diagonal = bounding_box_diagonal(&plain);
-    for coarse_start in [CoarseStart::Never, CoarseStart::Multilevel] {
-        let (multilevel, report) = run_with(&mesh, surface, FairMethod::Multilevel, coarse_start);
+    // The default (no coarse correction below its threshold), the coarse start, and the
+    // coarse correction after every damped step.
+    for (coarse_start, correction) in [
+        (CoarseStart::Never, CoarseCorrection::Auto),
+        (CoarseStart::Multilevel, CoarseCorrection::Auto),
+        (CoarseStart::Never, CoarseCorrection::Always),
+    ] {
+        let (multilevel, report) = run_with(
+            &mesh,
+            surface,
+            FairMethod::Multilevel,
+            coarse_start,
+            correction,
+        );
         assert_eq!(report.method, FairMethod::Multilevel);
         // Levels of the free vertices of 14399, then of the 3743-vertex mesh it refines.
         assert_eq!(report.multilevel_sizes[0], 13247);
@@ -84,6 +102,13 @@ fn same_minimum(surface: SurfaceKind) {
         } else {
             assert!(report.coarse_start.is_none());
         }
+        let n = &report.newton;
+        if correction == CoarseCorrection::Always {
+            // Some damped steps were moved further, and the minimum is the same (below).
+            assert!(n.coarse_correction && n.coarse_corrections > 0);
+        } else {
+            assert!(!n.coarse_correction && n.coarse_corrections == 0);
+        }
         // Each stops at the tolerance relative to the input's gradient.
         for r in [&plain_report, &report] {
             assert!(r.final_gradient_norm <= 1e-8 * r.initial_gradient_norm);
@@ -91,13 +116,13 @@ fn same_minimum(surface: SurfaceKind) {
         let (f_plain, f) = (plain_report.final_terms.f, report.final_terms.f);
         assert!(
             (f - f_plain).abs() <= 1e-9 * f_plain,
-            "{coarse_start:?}: F {f} vs {f_plain}"
+            "{coarse_start:?}, {correction:?}: F {f} vs {f_plain}"
         );
         let worst =
             crate::common::largest_coordinate_difference(&plain.positions, &multilevel.positions);
         assert!(
             worst <= 1e-6 * diagonal,
-            "{coarse_start:?}: positions differ by {worst:e} of {diagonal}"
+            "{coarse_start:?}, {correction:?}: positions differ by {worst:e} of {diagonal}"
         );
     }
 }
@@ -138,6 +163,7 @@ struct Choice {
     free: usize,
     sizes: Vec<usize>,
     geodesic_acceleration: bool,
+    coarse_correction: bool,
 }
 
 /// `surfkit fair --json --max-iterations 1` on the Catmull–Clark surface of the junction of
@@ -194,6 +220,7 @@ fn automatic_choice(tubes: u32, size: u32, refine: u32) -> Choice {
         free: report["free_vertices"].as_u64().unwrap() as usize,
         sizes,
         geodesic_acceleration: report["newton"]["geodesic_acceleration"].as_bool().unwrap(),
+        coarse_correction: report["newton"]["coarse_correction"].as_bool().unwrap(),
     }
 }
 
@@ -217,10 +244,13 @@ fn fair_multilevel_is_chosen_automatically_for_large_refined_meshes() {
     assert!(large.sizes.len() >= 3, "{:?}", large.sizes);
     // The geodesic acceleration is off unless asked for, at every size.
     assert!(!large.geodesic_acceleration);
+    // The coarse correction from 100 000 free vertices only (`COARSE_CORRECTION_FREE_VERTICES`).
+    assert!(!small.coarse_correction && !large.coarse_correction);
     let largest = automatic_choice(5, 8, 3);
     assert_eq!(largest.free, 90237);
     assert_eq!(largest.method, "multilevel");
     assert!(!largest.geodesic_acceleration);
+    assert!(largest.free < COARSE_CORRECTION_FREE_VERTICES && !largest.coarse_correction);
 }
 
 #[test]

@@ -5,6 +5,7 @@
 pub(crate) mod block_method;
 pub(crate) mod blocks;
 pub(crate) mod cholesky;
+pub(crate) mod coarse_correction;
 pub(crate) mod coordinate_floor;
 pub(crate) mod lattice_rounding;
 pub(crate) mod levels;

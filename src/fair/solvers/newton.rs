@@ -16,6 +16,9 @@ use std::time::Instant;
 use crate::error::{Error, Result};
 use crate::fair::functional::evaluation::{BlockHessian, Functional, HessianKind, Hessians, Terms};
 use crate::fair::solvers::cholesky::Factorizer;
+use crate::fair::solvers::coarse_correction::{
+    lowest_below, CoarseCorrection, COARSE_FORCING, COARSE_SHIFT_FRACTION, COARSE_STEP_LENGTHS,
+};
 use crate::fair::solvers::coordinate_floor::coordinate_floor;
 use crate::fair::solvers::lattice_rounding::lattice_rounding;
 use crate::fair::solvers::step_solver::{CholeskySolver, StepSolver};
@@ -110,6 +113,11 @@ pub struct NewtonOptions {
     /// 395.6 s with it at 218 879 free vertices, 224.0 against 231.6 s at 90 237, the same
     /// minima.
     pub geodesic_acceleration: bool,
+    /// Follow each Levenberg–Marquardt step by a step of its matrix in the first coarse
+    /// level's subspace ([`crate::fair::solvers::coarse_correction`]); solvers without
+    /// coarse levels (the plain method) never do. Beyond the paper. Default
+    /// [`CoarseCorrection::Auto`].
+    pub coarse_correction: CoarseCorrection,
 }
 
 /// The default of [`NewtonOptions::newton_after_decrease`]. From the raw three- and
@@ -165,6 +173,7 @@ impl Default for NewtonOptions {
             newton_backoff: true,
             lm_search: LmSearch::Exhaustive,
             geodesic_acceleration: false,
+            coarse_correction: CoarseCorrection::Auto,
         }
     }
 }
@@ -206,6 +215,13 @@ pub struct NewtonReport {
     /// and the conjugate-gradient iterations of those solves (in `cg_iterations` too).
     pub acceleration_seconds: f64,
     pub acceleration_cg_iterations: usize,
+    /// Whether the Levenberg–Marquardt steps had their coarse-subspace correction
+    /// ([`NewtonOptions::coarse_correction`] with coarse levels), the corrections that
+    /// lowered F (taken), and the seconds of all tried (their set-ups and CG iterations are
+    /// in the totals above too).
+    pub coarse_correction: bool,
+    pub coarse_corrections: usize,
+    pub coarse_correction_seconds: f64,
     /// Wall-clock seconds of the [`StepKind::LatticeRounding`] steps (their Hessian passes,
     /// set-ups and solves are in the totals above too).
     pub lattice_seconds: f64,
@@ -257,6 +273,9 @@ impl NewtonReport {
             accelerated_trials: 0,
             acceleration_seconds: 0.0,
             acceleration_cg_iterations: 0,
+            coarse_correction: false,
+            coarse_corrections: 0,
+            coarse_correction_seconds: 0.0,
             lattice_seconds: 0.0,
             lattice_sweeps: 0,
             converged: initial_gradient_norm == 0.0,
@@ -447,6 +466,8 @@ struct Stepper<'a, 'r, R: Representation, S: StepSolver> {
     search: LmSearch,
     /// [`NewtonOptions::geodesic_acceleration`] on a Gauss–Newton trajectory.
     accelerate: bool,
+    /// [`NewtonOptions::coarse_correction`] applies to this problem.
+    correct: bool,
 }
 
 impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
@@ -699,6 +720,54 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
             trial: best_trial,
             next_start,
         })
+    }
+
+    /// The point `lm` of a Levenberg–Marquardt step with ν `nu` of the matrix `h`, moved by
+    /// that matrix's step in the first coarse level's subspace where that lowers F
+    /// ([`crate::fair::solvers::coarse_correction`]), with its gradient (which the next
+    /// iteration needs either way).
+    fn coarse_correction(
+        &mut self,
+        (h, key): (&BlockHessian, u64),
+        lm: Trial,
+        nu: f64,
+    ) -> (Trial, Vec<f64>) {
+        let clock = Instant::now();
+        let (terms, g) = self.functional.gradient(&lm.positions);
+        let start = Trial {
+            terms,
+            positions: lm.positions,
+        };
+        let step = self
+            .factor(h, key, nu * COARSE_SHIFT_FRACTION)
+            .and_then(|ready| {
+                let step = self.solver.coarse_step(&ready, &g, COARSE_FORCING);
+                self.solver.recycle(ready);
+                step
+            });
+        let free = self.functional.free_index();
+        let corrected = step.and_then(|d| {
+            let points: Vec<_> = COARSE_STEP_LENGTHS
+                .iter()
+                .map(|&t| moved(&start.positions, free, &d, t))
+                .collect();
+            let values: Vec<f64> = points.iter().map(|x| self.functional.value(x).f).collect();
+            let best = lowest_below(&values, start.terms.f)?;
+            let positions = points.into_iter().nth(best).expect("an index of values");
+            let (terms, g) = self.functional.gradient(&positions);
+            // The value may pass and the gradient not be finite (a nearly folded surface).
+            norm(&g)
+                .is_finite()
+                .then_some((Trial { terms, positions }, g))
+        });
+        self.report.coarse_correction_seconds += clock.elapsed().as_secs_f64();
+        match corrected {
+            Some(found) => {
+                self.report.coarse_corrections += 1;
+                found
+            }
+            None => (start, g),
+        }
     }
 
     /// At the coordinates' floor: a Newton step solved to `forcing`, then its rounding
@@ -960,8 +1029,12 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
         forcing: 0.5,
         search: options.lm_search,
         accelerate: options.geodesic_acceleration && options.lm_matrix == LmMatrix::GaussNewton,
+        correct: false,
     };
+    run.correct =
+        options.coarse_correction.applies(functional.free_count()) && run.solver.has_coarse_level();
     run.report.geodesic_acceleration = run.accelerate;
+    run.report.coarse_correction = run.correct;
     if functional.free_count() == 0 || g0 == 0.0 {
         run.report.converged = true;
         return Ok(run.report);
@@ -1108,9 +1181,15 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
                 let start = next_nu.unwrap_or(scale * 1e-3);
                 if let Some(found) = run.lm_search((&h, key), &g, positions, terms.f, start) {
                     next_nu = Some(found.next_start);
+                    let (trial, gradient) = if run.correct {
+                        let (trial, gt) = run.coarse_correction((&h, key), found.trial, found.nu);
+                        (trial, Some(gt))
+                    } else {
+                        (found.trial, None)
+                    };
                     step = Some((
-                        found.trial,
-                        None,
+                        trial,
+                        gradient,
                         StepKind::LevenbergMarquardt,
                         Some(found.nu),
                     ));

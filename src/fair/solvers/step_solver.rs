@@ -19,6 +19,19 @@ pub trait StepSolver {
     /// it); `None` when the solve meets negative curvature.
     fn solve(&mut self, ready: &Self::Ready, g: &[f64], forcing: f64) -> Option<Vec<f64>>;
 
+    /// Whether [`Self::coarse_step`] can serve (the solver has a coarse level).
+    fn has_coarse_level(&self) -> bool {
+        false
+    }
+
+    /// P δ_c with Pᵀ(H + νI)P δ_c = −Pᵀ g to the relative residual `forcing`, P the
+    /// prolongation from the first coarse level: the step of `ready`'s matrix restricted
+    /// to that level's subspace. `None` for a solver without coarse levels, or when the
+    /// solve meets negative curvature.
+    fn coarse_step(&mut self, _ready: &Self::Ready, _g: &[f64], _forcing: f64) -> Option<Vec<f64>> {
+        None
+    }
+
     /// Gives a readied matrix's storage back.
     fn recycle(&mut self, ready: Self::Ready);
 

@@ -208,6 +208,20 @@ impl Multigrid {
         self.cycle(0, r)
     }
 
+    /// Level `l`'s matrix and the shift its products add (ν on the finest level, 0 below:
+    /// the coarse levels hold their Galerkin image of ν I), if `l` is a smoothed level.
+    pub fn level_system(&self, l: usize) -> Option<(&SymmetricCsr, f64)> {
+        self.levels
+            .get(l)
+            .map(|level| (&*level.matrix, level.shift))
+    }
+
+    /// One V-cycle from zero for level `l`'s system: the preconditioner of a solve in that
+    /// level's subspace.
+    pub fn cycle_from(&self, l: usize, b: &[f64]) -> Vec<f64> {
+        self.cycle(l, b)
+    }
+
     fn cycle(&self, l: usize, b: &[f64]) -> Vec<f64> {
         let Some(level) = self.levels.get(l) else {
             return self.coarsest.solve(b);
