@@ -244,13 +244,14 @@ fn fair_multilevel_is_chosen_automatically_for_large_refined_meshes() {
     assert!(large.sizes.len() >= 3, "{:?}", large.sizes);
     // The geodesic acceleration is off unless asked for, at every size.
     assert!(!large.geodesic_acceleration);
-    // The coarse correction from 100 000 free vertices only (`COARSE_CORRECTION_FREE_VERTICES`).
+    // The coarse correction from 70 000 free vertices only (`COARSE_CORRECTION_FREE_VERTICES`).
+    assert!(large.free < COARSE_CORRECTION_FREE_VERTICES);
     assert!(!small.coarse_correction && !large.coarse_correction);
     let largest = automatic_choice(5, 8, 3);
     assert_eq!(largest.free, 90237);
     assert_eq!(largest.method, "multilevel");
     assert!(!largest.geodesic_acceleration);
-    assert!(largest.free < COARSE_CORRECTION_FREE_VERTICES && !largest.coarse_correction);
+    assert!(largest.free >= COARSE_CORRECTION_FREE_VERTICES && largest.coarse_correction);
 }
 
 #[test]

@@ -8,9 +8,10 @@
 //! level's subspace step from a damped step's start lowered F by 0.8 to 4.8 times as much
 //! as the fine damped step itself (2026-12-07, docs/fairing-at-scale-log.md). Taken after
 //! each damped step with that step's matrix, the run took 15 damped steps instead of 18
-//! and 515.3 s instead of 582.0 s, to the same minimum; at 14k and 56k, 9 and 11 damped
-//! steps instead of 8 and 11 and 1.29 and 1.20 times as long (back to back). Hence on by
-//! default from [`COARSE_CORRECTION_FREE_VERTICES`] only.
+//! and 515.3 s instead of 582.0 s, to the same minimum, and the 94 077-vertex five-tube
+//! junction 19 instead of 25 and 312.0 s instead of 350.9 s; at 14k and 56k (three tubes),
+//! 9 and 11 damped steps instead of 8 and 11 and 1.29 and 1.20 times as long (back to
+//! back). Hence on by default from [`COARSE_CORRECTION_FREE_VERTICES`] only.
 
 /// Whether Levenberg–Marquardt steps get the coarse-subspace correction (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
@@ -24,9 +25,9 @@ pub enum CoarseCorrection {
 }
 
 /// The free vertices from which [`CoarseCorrection::Auto`] corrects: between the sizes
-/// where it was slower (54 143 free vertices, 1.20 times) and faster (218 879, 1.13 times),
-/// single runs of 2026-12-07; not measured in between.
-pub const COARSE_CORRECTION_FREE_VERTICES: usize = 100_000;
+/// where it was slower (54 143 free vertices, 1.20 times) and faster (90 237, 1.12 times;
+/// 218 879, 1.13 times), single runs of 2026-12-07; not measured in between.
+pub const COARSE_CORRECTION_FREE_VERTICES: usize = 70_000;
 
 /// The shift ν′ of the correction's solve as a fraction of the damped step's ν: nearly
 /// the coarse Newton step (the coarse Gauss–Newton matrix is positive definite), the line
