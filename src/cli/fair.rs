@@ -56,7 +56,7 @@ pub enum MethodArg {
 /// `--coarse-correction`.
 #[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CoarseCorrectionArg {
-    /// From 70 000 free vertices (multilevel method).
+    /// From 70 000 free vertices (multilevel method, Catmull–Clark surface).
     Auto,
     /// After every damped step (multilevel method).
     Always,

@@ -531,6 +531,9 @@ pub fn optimize_observed(
                 && warm_start.is_none()
                 && functional.free_count() > COARSEST_VERTICES;
             let mut newton_options = options.newton.clone();
+            newton_options.coarse_correction = newton_options
+                .coarse_correction
+                .for_surface(options.representation.surface);
             if nested {
                 coarse_stage = nested_start(
                     &prepared,

@@ -13,6 +13,8 @@
 //! 9 and 11 damped steps instead of 8 and 11 and 1.29 and 1.20 times as long (back to
 //! back). Hence on by default from [`COARSE_CORRECTION_FREE_VERTICES`] only.
 
+use crate::fair::SurfaceKind;
+
 /// Whether Levenberg–Marquardt steps get the coarse-subspace correction (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -41,6 +43,17 @@ pub const COARSE_FORCING: f64 = 0.05;
 pub const COARSE_STEP_LENGTHS: [f64; 3] = [1.0, 0.5, 0.25];
 
 impl CoarseCorrection {
+    /// The setting for `surface`: [`CoarseCorrection::Auto`] stays automatic on the
+    /// Catmull–Clark surface, where its threshold was measured, and is off on the G² one,
+    /// not measured with it at scale (its growth goal met without it); an explicit setting
+    /// stays.
+    pub fn for_surface(self, surface: SurfaceKind) -> Self {
+        match (self, surface) {
+            (CoarseCorrection::Auto, SurfaceKind::G2) => CoarseCorrection::Never,
+            (setting, _) => setting,
+        }
+    }
+
     /// Whether a problem of `free` free vertices is corrected.
     pub fn applies(self, free: usize) -> bool {
         match self {
@@ -72,6 +85,15 @@ mod tests {
         assert!(CoarseCorrection::Auto.applies(n));
         assert!(CoarseCorrection::Always.applies(1));
         assert!(!CoarseCorrection::Never.applies(10 * n));
+    }
+
+    #[test]
+    fn auto_is_off_on_the_g2_surface_and_explicit_settings_stay() {
+        use CoarseCorrection::*;
+        assert_eq!(Auto.for_surface(SurfaceKind::CatmullClark), Auto);
+        assert_eq!(Auto.for_surface(SurfaceKind::G2), Never);
+        assert_eq!(Always.for_surface(SurfaceKind::G2), Always);
+        assert_eq!(Never.for_surface(SurfaceKind::CatmullClark), Never);
     }
 
     #[test]
