@@ -296,11 +296,10 @@ mod tests {
         RepresentationOptions, SurfaceKind, SurfaceRepresentation,
     };
 
-    /// The 3743-vertex junction's Hessians at the raw mesh (3167 free vertices; one coarse
-    /// level, the 911 internal vertices of the 1007-vertex mesh it refines), its levels and
-    /// its free count.
-    fn junction() -> (Hierarchy, Hessians, usize) {
-        let mesh = refine_surface(&tubes(3, 8, 2).unwrap(), 1).unwrap();
+    /// The three-tube junction refined `refinements` times, Catmull–Clark surface: its
+    /// Hessians at the raw mesh, its levels and its free count.
+    fn refined_junction(refinements: u32) -> (Hierarchy, Hessians, usize) {
+        let mesh = refine_surface(&tubes(3, 8, 2).unwrap(), refinements).unwrap();
         let topo = MeshTopology::new(&mesh).unwrap();
         let fixed = fixed_vertices(&topo, 3, &[]).unwrap();
         let options = RepresentationOptions {
@@ -313,8 +312,15 @@ mod tests {
         let functional = Functional::new(&rep, &fixed, 1.0);
         let hessians = functional.hessians(&mesh.positions, HessianKind::Both);
         let levels = hierarchy(&mesh, functional.free_index(), functional.free_count());
-        assert_eq!(levels.sizes(), vec![3167, 911]);
         (levels, hessians, functional.free_count())
+    }
+
+    /// The 3743-vertex junction's (3167 free vertices; one coarse level, the 911 internal
+    /// vertices of the 1007-vertex mesh it refines).
+    fn junction() -> (Hierarchy, Hessians, usize) {
+        let out = refined_junction(1);
+        assert_eq!(out.0.sizes(), vec![3167, 911]);
+        out
     }
 
     fn distance(a: &[f64], b: &[f64]) -> f64 {
@@ -332,19 +338,7 @@ mod tests {
         // with the V-cycle from there): d = P δ_c must leave Pᵀ((H + νI) d + g) = 0, the
         // Galerkin condition, checked with the fine matrix's own product and restriction.
         for refinements in [1, 2] {
-            let mesh = refine_surface(&tubes(3, 8, 2).unwrap(), refinements).unwrap();
-            let topo = MeshTopology::new(&mesh).unwrap();
-            let fixed = fixed_vertices(&topo, 3, &[]).unwrap();
-            let options = RepresentationOptions {
-                surface: SurfaceKind::CatmullClark,
-                ..RepresentationOptions::default()
-            };
-            let rep =
-                SurfaceRepresentation::new(&mesh, &topo.boundary, &topo.special_flags(), &options)
-                    .unwrap();
-            let functional = Functional::new(&rep, &fixed, 1.0);
-            let hessians = functional.hessians(&mesh.positions, HessianKind::GaussNewton);
-            let levels = hierarchy(&mesh, functional.free_index(), functional.free_count());
+            let (levels, hessians, _) = refined_junction(refinements);
             assert_eq!(
                 levels.sizes().len(),
                 refinements as usize + 1,
