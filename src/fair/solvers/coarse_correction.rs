@@ -45,8 +45,8 @@ pub const COARSE_STEP_LENGTHS: [f64; 3] = [1.0, 0.5, 0.25];
 impl CoarseCorrection {
     /// The setting for `surface`: [`CoarseCorrection::Auto`] stays automatic on the
     /// Catmull–Clark surface, where its threshold was measured, and is off on the G² one,
-    /// not measured with it at scale (its growth goal met without it); an explicit setting
-    /// stays.
+    /// where it made the 223k junction slower (476.3 s against 448.2 s, README); an explicit
+    /// setting stays.
     pub fn for_surface(self, surface: SurfaceKind) -> Self {
         match (self, surface) {
             (CoarseCorrection::Auto, SurfaceKind::G2) => CoarseCorrection::Never,
