@@ -203,8 +203,8 @@ pub struct FairArgs {
     #[arg(long)]
     pub no_geodesic_acceleration: bool,
     /// Follow each Levenberg–Marquardt step of the multilevel method by the same matrix's
-    /// step in the first coarse level's subspace, where it lowers F: faster at 90 237 and
-    /// 218 879 free vertices, slower at 13 247 and 54 143 (docs/fairing-at-scale-log.md).
+    /// step in the first coarse level's subspace, where it lowers F: faster at 72 190, 90 237
+    /// and 218 879 free vertices, slower at 13 247 and 54 143 (docs/fairing-at-scale-log.md).
     #[arg(long, value_enum, default_value_t = CoarseCorrectionArg::Auto)]
     pub coarse_correction: CoarseCorrectionArg,
     /// Coarse-to-fine (paper §6): optimize the input, then this many times refine its

@@ -27,8 +27,8 @@ pub enum CoarseCorrection {
 }
 
 /// The free vertices from which [`CoarseCorrection::Auto`] corrects: between the sizes
-/// where it was slower (54 143 free vertices, 1.20 times) and faster (90 237, 1.12 times;
-/// 218 879, 1.13 times), single runs of 2026-12-07; not measured in between.
+/// where it was slower (54 143 free vertices, 1.20 times) and faster (72 190, 90 237 and
+/// 218 879, 1.12 to 1.13 times), single runs of 2026-12-07.
 pub const COARSE_CORRECTION_FREE_VERTICES: usize = 70_000;
 
 /// The shift ν′ of the correction's solve as a fraction of the damped step's ν: nearly

@@ -1020,6 +1020,8 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
         finite_start(terms, g, positions)?
     };
     let g0 = norm(&g);
+    let correct =
+        options.coarse_correction.applies(functional.free_count()) && solver.has_coarse_level();
     let mut run = Stepper {
         functional,
         sources,
@@ -1029,10 +1031,8 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
         forcing: 0.5,
         search: options.lm_search,
         accelerate: options.geodesic_acceleration && options.lm_matrix == LmMatrix::GaussNewton,
-        correct: false,
+        correct,
     };
-    run.correct =
-        options.coarse_correction.applies(functional.free_count()) && run.solver.has_coarse_level();
     run.report.geodesic_acceleration = run.accelerate;
     run.report.coarse_correction = run.correct;
     if functional.free_count() == 0 || g0 == 0.0 {

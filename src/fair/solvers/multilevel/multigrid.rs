@@ -216,13 +216,9 @@ impl Multigrid {
             .map(|level| (&*level.matrix, level.shift))
     }
 
-    /// One V-cycle from zero for level `l`'s system: the preconditioner of a solve in that
-    /// level's subspace.
-    pub fn cycle_from(&self, l: usize, b: &[f64]) -> Vec<f64> {
-        self.cycle(l, b)
-    }
-
-    fn cycle(&self, l: usize, b: &[f64]) -> Vec<f64> {
+    /// One V-cycle from zero for level `l`'s system (`l` = 0: the fine one; below, the
+    /// preconditioner of a solve in that level's subspace).
+    pub fn cycle(&self, l: usize, b: &[f64]) -> Vec<f64> {
         let Some(level) = self.levels.get(l) else {
             return self.coarsest.solve(b);
         };

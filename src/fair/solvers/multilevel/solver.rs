@@ -256,7 +256,7 @@ impl StepSolver for MultilevelSolver {
                 let cg = pcg_operator(
                     &|x: &[f64]| matrix.multiply(x, shift),
                     &b,
-                    &|r: &[f64]| ready.multigrid.cycle_from(1, r),
+                    &|r: &[f64]| ready.multigrid.cycle(1, r),
                     forcing,
                     MAX_CG_ITERATIONS,
                 );
@@ -267,7 +267,7 @@ impl StepSolver for MultilevelSolver {
                 }
                 cg.x
             }
-            None => ready.multigrid.cycle_from(1, &b),
+            None => ready.multigrid.cycle(1, &b),
         };
         let mut fine = vec![0.0; g.len()];
         p.add_prolonged(&coarse, &mut fine);
