@@ -853,8 +853,11 @@ impl<'a, 'r, R: Representation, S: StepSolver> Stepper<'a, 'r, R, S> {
     }
 }
 
-/// The relative residual of a [`StepKind::LatticeRounding`] step's solve: the step is to
-/// leave a gradient well below the floor it starts within twice of, before its rounding.
+/// The least relative residual of a [`StepKind::LatticeRounding`] step's solve, which is
+/// otherwise solved to the tolerance: the rounding's coordinate descent then takes the
+/// step's leftover below it along with the rounding noise (the 223 487-vertex Catmull–Clark
+/// junction, 2026-12-07: ‖g‖ 9.19·10⁻³ against 9.24·10⁻³ with the solve to half the
+/// tolerance, the tolerance 3.75·10⁻², 22 fewer CG iterations, the step 20.7 s against 30.4 s).
 const LATTICE_FORCING: f64 = 1e-2;
 
 /// The gradient a [`StepKind::LatticeRounding`] step's rounding aims at, as a fraction of
@@ -1066,8 +1069,8 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
         if run.report.at_coordinate_floor(gnorm) {
             if lattice_steps_left > 0 {
                 lattice_steps_left -= 1;
-                let forcing =
-                    (0.5 * options.relative_gradient * g0 / gnorm).clamp(LATTICE_FORCING, 0.5);
+                // The step solved to the tolerance itself: its rounding takes the rest.
+                let forcing = (options.relative_gradient * g0 / gnorm).clamp(LATTICE_FORCING, 0.5);
                 let clock = Instant::now();
                 step = run
                     .lattice_step(
