@@ -657,6 +657,14 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
                 n.hessian_seconds
             );
         }
+        if n.near_hessians_raised {
+            println!(
+                "  near Hessians raised from {} to F's {} nodes per direction: two Newton steps \
+                 in a row left |g| above half its value",
+                args.hessian_nodes.min(args.nodes),
+                args.nodes
+            );
+        }
         if n.coarse_correction {
             println!(
                 "  coarse correction: {} of {} Levenberg–Marquardt steps moved further in the \

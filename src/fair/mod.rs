@@ -46,7 +46,7 @@ pub use solvers::levels::{optimize_levels, optimize_levels_observed, CoarseToFin
 pub use solvers::newton::{
     newton, newton_observed, newton_observed_with_hessians, HessianSources, Iteration, LmMatrix,
     LmSearch, NewtonOptions, NewtonReport, StepKind, FAR_MODEL_DECREASE, FLOOR_MARGIN,
-    NEWTON_AFTER_DECREASE,
+    NEWTON_AFTER_DECREASE, SLOW_NEAR_RATE, SLOW_NEAR_STEPS,
 };
 pub use solvers::pcg::{multiply, pcg, pcg_operator, CgOutcome, CgStop};
 pub use solvers::schwarz::Schwarz;
@@ -301,16 +301,25 @@ impl FairOptions {
 /// Most Gauss–Legendre nodes per direction for the Newton Hessians (F keeps its own): on
 /// the author's three meshes at F's 8 × 8 (G² surface, C = 0.01, 2026-11-26) Hessians at
 /// 4 × 4 took the same Newton iterations as at 8 × 8 (10 and 10, 7 and 6, 10 and 12) to
-/// the same minimum, each at a quarter of the cost.
-pub const DEFAULT_HESSIAN_NODES: usize = 4;
+/// the same minimum, each at a quarter of the cost. At F's default 4 × 4, 3 × 3 (9/16 of a
+/// pass) took the same steps to the same F on the three-tube Catmull–Clark junctions
+/// (2026-12-07, single runs of `surfkit fair --method multilevel`): 14 399 vertices 9.98 and
+/// 10.15 s against 11.11 and 11.05 s, 223 487 vertices 443.2 s against 505.7 s; the
+/// 94 077-vertex five-tube one 243.6 s against 286.7 s; G² 14 399 vertices 11.33 and
+/// 12.12 s against 12.56 and 13.57 s, but 223 487 level (429.9 s against 434.6 s, one more
+/// Newton step); the author's meshes in as many iterations or fewer, both surfaces. Where
+/// the fewer nodes slow the Newton tail (the 53-vertex junction), [`SLOW_NEAR_STEPS`]
+/// raises them to F's.
+pub const DEFAULT_HESSIAN_NODES: usize = 3;
 
 /// Most nodes per direction for the Hessians far from the minimum
 /// ([`HessianSources::far`]): at F's default 4 × 4, Hessians at 3 × 3 throughout took as
 /// many Hessians to the same F on raw tube junctions (2026-11-27: 14 399 vertices, plain,
 /// 9 and 9, 41.4 s against 56.2 s; 94 077 vertices, multilevel, 21 against the 23 of an
 /// earlier session's run with 4-node Hessians), each at
-/// 9/16 of the cost — but slowed Newton's last steps on a small Catmull–Clark junction,
-/// hence only far from the minimum. There 2 × 2 (4/9 of a 3 × 3 pass) serves as well
+/// 9/16 of the cost — but slowed Newton's last steps on a small Catmull–Clark junction
+/// (which [`SLOW_NEAR_STEPS`] now catches). Far from the minimum 2 × 2 (4/9 of a 3 × 3
+/// pass) serves as well
 /// while the damped steps gain, and [`FAR_MODEL_DECREASE`] hands the Newton trials the
 /// near model once they do not (single runs of `surfkit fair`, 2026-11-29, against 3 × 3
 /// the same evening, the same F every time): the 223 487-vertex Catmull–Clark junction,

@@ -227,6 +227,9 @@ pub struct NewtonReport {
     pub lattice_seconds: f64,
     /// The coordinate-descent sweeps of those steps' roundings.
     pub lattice_sweeps: usize,
+    /// Whether the near Hessians were raised to F's own nodes after
+    /// [`SLOW_NEAR_STEPS`] slow Newton steps from fewer ([`HessianSources::near`]).
+    pub near_hessians_raised: bool,
     pub converged: bool,
     /// ‖H u‖ for u the rounding of the free coordinates to `f64` to nearest, at the last
     /// fresh Hessian: about the smallest ‖g‖ a Newton step's stored positions have
@@ -278,6 +281,7 @@ impl NewtonReport {
             coarse_correction_seconds: 0.0,
             lattice_seconds: 0.0,
             lattice_sweeps: 0,
+            near_hessians_raised: false,
             converged: initial_gradient_norm == 0.0,
             coordinate_floor: None,
             stalled: false,
@@ -427,9 +431,9 @@ pub struct HessianSources<'a, 'r, R: Representation> {
     pub near: &'a Functional<'r, R>,
     /// Far from the minimum: at the start and after Levenberg–Marquardt steps, where most
     /// Hessians of a run from a raw mesh go and the damped steps gain nothing from a more
-    /// accurate model. Not for Newton's last steps: with 3-node Hessians throughout, a
-    /// 53-vertex junction's Catmull–Clark surface (F at 4 nodes) converged at a rate of 0.7
-    /// a step and stopped at 1.9·10⁻⁹ ‖g₀‖ when F no longer changed.
+    /// accurate model. Not for Newton's last steps: with 2-node Hessians there, a 53-vertex
+    /// junction's Catmull–Clark surface (F at 4 nodes) never had a Newton trial succeed
+    /// ([`FAR_MODEL_DECREASE`]).
     pub far: &'a Functional<'r, R>,
 }
 
@@ -925,6 +929,20 @@ const TRAJECTORY_IMPROVEMENT: f64 = 1e-4;
 /// Catmull–Clark one four of 3·10⁻⁴ to 7·10⁻⁶ hand the next pass the near nodes.
 pub const FAR_MODEL_DECREASE: f64 = 1e-3;
 
+/// Full Newton steps from fresh near Hessians at fewer nodes than F's, one right after the
+/// other, that each left ‖g‖ above [`SLOW_NEAR_RATE`] of its value, after which the near
+/// Hessians take F's own nodes for the rest of the run (any other step starts the count
+/// again). Such a rate is the model's quadrature error, not the
+/// nonlinearity: with 3 × 3-node Hessians the 53-vertex Catmull–Clark junction (F at
+/// 4 × 4) went on at 0.7 a step for 30 iterations, where its Newton steps at 4 × 4 cut ‖g‖
+/// by 10 or more; on the three-tube junctions of 14k and 223k vertices and on the author's
+/// meshes no two fresh Newton steps in a row were that slow (2026-12-07). A false alarm
+/// costs only the fewer nodes' saving.
+pub const SLOW_NEAR_STEPS: usize = 2;
+
+/// See [`SLOW_NEAR_STEPS`].
+pub const SLOW_NEAR_RATE: f64 = 0.5;
+
 /// Mean absolute diagonal entry of `h` (at least the smallest positive number): the scale
 /// of ν.
 pub(crate) fn diagonal_scale(h: &BlockHessian) -> f64 {
@@ -1055,6 +1073,8 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
     let mut trials_skipped = 0usize;
     let mut next_skip = 1usize;
     let mut lattice_steps_left = LATTICE_STEPS;
+    // Slow fresh Newton steps from the near Hessians in a row (`SLOW_NEAR_STEPS`).
+    let mut slow_near_steps = 0usize;
     // The exact Hessian of the last Newton step from a fresh pass, with its key: the model
     // of a lattice step (its moves are ulps: a Hessian one step old predicts them).
     let mut last_exact: Option<(BlockHessian, u64)> = None;
@@ -1065,6 +1085,8 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
             break;
         }
         let mut step = None;
+        // Whether `step` is a full Newton step from a fresh pass of the near Hessians.
+        let mut near_newton = false;
         // 0. At the coordinates' floor, above the tolerance: the rounding chosen.
         if run.report.at_coordinate_floor(gnorm) {
             if lattice_steps_left > 0 {
@@ -1149,6 +1171,7 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
                     let trial;
                     (trial, reusable) = run.newton_kept(factor, &g, positions, terms.f, options);
                     if let Some((trial, gt, kind)) = trial {
+                        near_newton = kind == StepKind::Newton && !far_model;
                         step = Some((trial, Some(gt), kind, None));
                     }
                 }
@@ -1220,6 +1243,17 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
         } else {
             0
         };
+        let fewer_nodes = !std::ptr::eq(run.sources.near, functional);
+        slow_near_steps = if near_newton && fewer_nodes && norm(&g) > SLOW_NEAR_RATE * g_before {
+            slow_near_steps + 1
+        } else {
+            0
+        };
+        if slow_near_steps >= SLOW_NEAR_STEPS {
+            run.sources.near = functional;
+            run.report.near_hessians_raised = true;
+            slow_near_steps = 0;
+        }
         run.forcing = forcing_term(
             run.forcing,
             g_before,
