@@ -18,7 +18,8 @@ use crate::fair::{
     FairMethod, FairOptions, FairReport, G2Surface, Iteration, LevelReport, LmMatrix, LmSearch,
     MeshTopology, NewtonOptions, QDomain, RepresentationOptions, ShapeChange, StepKind,
     SurfaceKind, DEFAULT_C_SPECIAL, DEFAULT_C_SPECIAL_G2, DEFAULT_FAR_HESSIAN_NODES,
-    DEFAULT_HESSIAN_NODES, DEFAULT_REGULARIZATION, NEWTON_AFTER_DECREASE,
+    DEFAULT_HESSIAN_NODES, DEFAULT_REGULARIZATION, NEWTON_AFTER_DECREASE, SLOW_NEAR_RATE,
+    SLOW_NEAR_STEPS,
 };
 use crate::limits::MemoryBudget;
 use crate::mesh::io::{read, write, WriteOptions};
@@ -659,10 +660,10 @@ pub fn run(args: &FairArgs, memory: MemoryBudget) -> crate::Result<ExitCode> {
         }
         if n.near_hessians_raised {
             println!(
-                "  near Hessians raised from {} to F's {} nodes per direction: two Newton steps \
-                 in a row left |g| above half its value",
-                args.hessian_nodes.min(args.nodes),
-                args.nodes
+                "  near Hessians raised from {} to F's {} nodes per direction: {SLOW_NEAR_STEPS} \
+                 Newton steps in a row left |g| above {SLOW_NEAR_RATE} of its value",
+                options.hessian_node_counts().0,
+                options.representation.nodes
             );
         }
         if n.coarse_correction {

@@ -304,8 +304,9 @@ impl FairOptions {
 /// the same minimum, each at a quarter of the cost. At F's default 4 × 4, 3 × 3 (9/16 of a
 /// pass) took the same steps to the same F on the three-tube Catmull–Clark junctions
 /// (2026-12-07, single runs of `surfkit fair --method multilevel`): 14 399 vertices 9.98 and
-/// 10.15 s against 11.11 and 11.05 s, 223 487 vertices 443.2 s against 505.7 s; the
-/// 94 077-vertex five-tube one 243.6 s against 286.7 s; G² 14 399 vertices 11.33 and
+/// 10.15 s against 11.11 and 11.05 s, 223 487 vertices 443.2 s against 505.7 s (the day's
+/// previous session); the 94 077-vertex five-tube one 243.6 s against 286.7 s (the same
+/// previous session); G² 14 399 vertices 11.33 and
 /// 12.12 s against 12.56 and 13.57 s, but 223 487 level (429.9 s against 434.6 s, one more
 /// Newton step); the author's meshes in as many iterations or fewer, both surfaces. Where
 /// the fewer nodes slow the Newton tail (the 53-vertex junction), [`SLOW_NEAR_STEPS`]
@@ -318,8 +319,8 @@ pub const DEFAULT_HESSIAN_NODES: usize = 3;
 /// 9 and 9, 41.4 s against 56.2 s; 94 077 vertices, multilevel, 21 against the 23 of an
 /// earlier session's run with 4-node Hessians), each at
 /// 9/16 of the cost — but slowed Newton's last steps on a small Catmull–Clark junction
-/// (which [`SLOW_NEAR_STEPS`] now catches). Far from the minimum 2 × 2 (4/9 of a 3 × 3
-/// pass) serves as well
+/// (now the near Hessians' concern, [`SLOW_NEAR_STEPS`]). Far from the minimum 2 × 2 (4/9
+/// of a 3 × 3 pass) serves as well
 /// while the damped steps gain, and [`FAR_MODEL_DECREASE`] hands the Newton trials the
 /// near model once they do not (single runs of `surfkit fair`, 2026-11-29, against 3 × 3
 /// the same evening, the same F every time): the 223 487-vertex Catmull–Clark junction,

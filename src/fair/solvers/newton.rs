@@ -1085,7 +1085,8 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
             break;
         }
         let mut step = None;
-        // Whether `step` is a full Newton step from a fresh pass of the near Hessians.
+        // Whether `step` is a full Newton step from a fresh pass of the near Hessians at
+        // fewer nodes than F's (`SLOW_NEAR_STEPS`).
         let mut near_newton = false;
         // 0. At the coordinates' floor, above the tolerance: the rounding chosen.
         if run.report.at_coordinate_floor(gnorm) {
@@ -1171,7 +1172,9 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
                     let trial;
                     (trial, reusable) = run.newton_kept(factor, &g, positions, terms.f, options);
                     if let Some((trial, gt, kind)) = trial {
-                        near_newton = kind == StepKind::Newton && !far_model;
+                        near_newton = kind == StepKind::Newton
+                            && !far_model
+                            && !std::ptr::eq(run.sources.near, functional);
                         step = Some((trial, Some(gt), kind, None));
                     }
                 }
@@ -1243,8 +1246,7 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
         } else {
             0
         };
-        let fewer_nodes = !std::ptr::eq(run.sources.near, functional);
-        slow_near_steps = if near_newton && fewer_nodes && norm(&g) > SLOW_NEAR_RATE * g_before {
+        slow_near_steps = if near_newton && norm(&g) > SLOW_NEAR_RATE * g_before {
             slow_near_steps + 1
         } else {
             0
@@ -1252,7 +1254,6 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
         if slow_near_steps >= SLOW_NEAR_STEPS {
             run.sources.near = functional;
             run.report.near_hessians_raised = true;
-            slow_near_steps = 0;
         }
         run.forcing = forcing_term(
             run.forcing,
