@@ -465,7 +465,8 @@ struct Stepper<'a, 'r, R: Representation, S: StepSolver> {
     /// Hessian passes so far: the exact Hessian of pass k has key 2k, its Gauss–Newton
     /// part 2k + 1 ([`StepSolver::ready`]).
     passes: u64,
-    /// The relative residual an inexact solver is asked for ([`forcing_term`]).
+    /// The relative residual an inexact solver is asked for ([`forcing_term`], and
+    /// [`kept_matrix_forcing`] before a step on a kept matrix).
     forcing: f64,
     search: LmSearch,
     /// [`NewtonOptions::geodesic_acceleration`] on a Gauss–Newton trajectory.
@@ -1016,6 +1017,32 @@ pub(crate) fn forcing_term(last: f64, previous: f64, current: f64, target: f64) 
     eta.max(0.5 * target / current).min(0.5)
 }
 
+/// The forcing term of a step on a kept matrix ([`Stepper::newton_kept`]), from `eta`
+/// ([`forcing_term`]) after ‖g‖ went from `previous` to `current`: no tighter than that
+/// contraction. A kept matrix is the Hessian of an earlier point, so its steps converge
+/// linearly, at about the last step's rate, and Eisenstat and Walker's choice 2, which
+/// squares that rate for a quadratic model, over-solves them. On the 223 487-vertex
+/// Catmull–Clark junction (2026-12-08, single runs, docs/fairing-at-scale-log.md) the
+/// first two steps on the kept matrix were solved to 3.3·10⁻³ and 2.8·10⁻³ in 56 and 41
+/// CG iterations from contractions of 1/16.5 and 1/17.8; with this floor the run took 439
+/// CG iterations instead of 460 and 422.8 s instead of 437.7 s, to the same minimum.
+/// Applied from [`KEPT_MATRIX_FLOOR_FREE_VERTICES`].
+pub(crate) fn kept_matrix_forcing(eta: f64, previous: f64, current: f64) -> f64 {
+    eta.max(current / previous).min(0.5)
+}
+
+/// The free vertices from which steps on a kept matrix take [`kept_matrix_forcing`]. The
+/// over-solving costs more CG iterations as the problem grows (at the optima the V-cycle
+/// contracts by about 0.54, 0.76 and 0.82 an iteration at 14k, 56k and 223k, earlier
+/// sessions' measurements, README), while a looser step
+/// that falls short of the kept matrix's reuse test costs a fresh Hessian at any size.
+/// Measured 2026-12-08 (single runs, both surfaces, the same minima): slower at 5 277 free
+/// vertices (one more exact Hessian or kept step: 8.51 and 8.41 s against 8.07 and 7.82 s
+/// on the Catmull–Clark surface, 8.64 and 8.46 s against 8.08 and 8.11 s on G²), level at
+/// 13 247, level or faster at 54 143 (57.67 s against 59.29 s) and faster at 218 879
+/// (Catmull–Clark 422.8 s against 437.7 s, G² 382.7 s against 408.3 s).
+pub const KEPT_MATRIX_FLOOR_FREE_VERTICES: usize = 50_000;
+
 /// [`newton_observed_with_hessians`] with the steps solved by `solver`.
 ///
 /// # Errors
@@ -1261,6 +1288,9 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
             norm(&g),
             run.report.stopping_gradient(options.relative_gradient * g0),
         );
+        if reusable.is_some() && functional.free_count() >= KEPT_MATRIX_FLOOR_FREE_VERTICES {
+            run.forcing = kept_matrix_forcing(run.forcing, g_before, norm(&g));
+        }
         run.report.iterations.push(Iteration {
             terms,
             gradient_norm: norm(&g),
@@ -1337,6 +1367,19 @@ mod tests {
         assert_eq!(forcing_term(0.5, 1.0, 1.0, 0.0), 0.5);
         // No more accuracy than the gradient tolerance needs: ½ target / ‖g‖.
         assert!((forcing_term(0.01, 1.0, 1e-3, 1e-6) - 5e-4).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_kept_matrix_step_is_solved_no_tighter_than_the_last_contraction() {
+        // The 223k junction's first step on a kept matrix: ‖g‖ 16 021 → 970, so
+        // Eisenstat–Walker asks 0.9 · (970/16 021)² = 3.3·10⁻³; the floor is 970/16 021.
+        let eta = forcing_term(0.0667, 16_021.0, 970.0, 0.0);
+        assert!((eta - 0.9 * (970.0f64 / 16_021.0).powi(2)).abs() < 1e-15);
+        let kept = super::kept_matrix_forcing(eta, 16_021.0, 970.0);
+        assert!((kept - 970.0 / 16_021.0).abs() < 1e-15);
+        // A looser term stays, and the floor never passes ½.
+        assert_eq!(super::kept_matrix_forcing(0.3, 10.0, 1.0), 0.3);
+        assert_eq!(super::kept_matrix_forcing(0.01, 1.0, 0.9), 0.5);
     }
 
     #[test]
