@@ -465,8 +465,9 @@ struct Stepper<'a, 'r, R: Representation, S: StepSolver> {
     /// Hessian passes so far: the exact Hessian of pass k has key 2k, its Gauss–Newton
     /// part 2k + 1 ([`StepSolver::ready`]).
     passes: u64,
-    /// The relative residual an inexact solver is asked for ([`forcing_term`], and
-    /// [`kept_matrix_forcing`] before a step on a kept matrix).
+    /// The relative residual an inexact solver is asked for ([`forcing_term`]; after a step
+    /// whose matrix is kept, [`kept_matrix_forcing`], which also serves the fresh step that
+    /// follows if the kept matrix's trial fails).
     forcing: f64,
     search: LmSearch,
     /// [`NewtonOptions::geodesic_acceleration`] on a Gauss–Newton trajectory.
@@ -1021,12 +1022,10 @@ pub(crate) fn forcing_term(last: f64, previous: f64, current: f64, target: f64) 
 /// ([`forcing_term`]) after ‖g‖ went from `previous` to `current`: no tighter than that
 /// contraction. A kept matrix is the Hessian of an earlier point, so its steps converge
 /// linearly, at about the last step's rate, and Eisenstat and Walker's choice 2, which
-/// squares that rate for a quadratic model, over-solves them. On the 223 487-vertex
-/// Catmull–Clark junction (2026-12-08, single runs, docs/fairing-at-scale-log.md) the
-/// first two steps on the kept matrix were solved to 3.3·10⁻³ and 2.8·10⁻³ in 56 and 41
-/// CG iterations from contractions of 1/16.5 and 1/17.8; with this floor the run took 439
-/// CG iterations instead of 460 and 422.8 s instead of 437.7 s, to the same minimum.
-/// Applied from [`KEPT_MATRIX_FLOOR_FREE_VERTICES`].
+/// squares that rate for a quadratic model, over-solves them: on the 223 487-vertex
+/// Catmull–Clark junction the first two steps on the kept matrix were asked for 3.3·10⁻³
+/// and 2.8·10⁻³ after contractions of 1/16.5 and 1/17.8 (56 and 41 CG iterations).
+/// Applied from [`KEPT_MATRIX_FLOOR_FREE_VERTICES`], whose docs give the measurements.
 pub(crate) fn kept_matrix_forcing(eta: f64, previous: f64, current: f64) -> f64 {
     eta.max(current / previous).min(0.5)
 }
@@ -1034,8 +1033,8 @@ pub(crate) fn kept_matrix_forcing(eta: f64, previous: f64, current: f64) -> f64 
 /// The free vertices from which steps on a kept matrix take [`kept_matrix_forcing`]. The
 /// over-solving costs more CG iterations as the problem grows (at the optima the V-cycle
 /// contracts by about 0.54, 0.76 and 0.82 an iteration at 14k, 56k and 223k, earlier
-/// sessions' measurements, README), while a looser step
-/// that falls short of the kept matrix's reuse test costs a fresh Hessian at any size.
+/// sessions' measurements, README), while a looser step that falls short of the kept
+/// matrix's reuse test costs a fresh Hessian at any size.
 /// Measured 2026-12-08 (single runs, both surfaces, the same minima): slower at 5 277 free
 /// vertices (one more exact Hessian or kept step: 8.51 and 8.41 s against 8.07 and 7.82 s
 /// on the Catmull–Clark surface, 8.64 and 8.46 s against 8.08 and 8.11 s on G²), level at
@@ -1070,6 +1069,7 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
     let g0 = norm(&g);
     let correct =
         options.coarse_correction.applies(functional.free_count()) && solver.has_coarse_level();
+    let loosen_kept = functional.free_count() >= KEPT_MATRIX_FLOOR_FREE_VERTICES;
     let mut run = Stepper {
         functional,
         sources,
@@ -1288,7 +1288,7 @@ pub(crate) fn newton_with_solver<'a, 'r, R: Representation, S: StepSolver>(
             norm(&g),
             run.report.stopping_gradient(options.relative_gradient * g0),
         );
-        if reusable.is_some() && functional.free_count() >= KEPT_MATRIX_FLOOR_FREE_VERTICES {
+        if loosen_kept && reusable.is_some() {
             run.forcing = kept_matrix_forcing(run.forcing, g_before, norm(&g));
         }
         run.report.iterations.push(Iteration {
